@@ -1,0 +1,45 @@
+#include <cstdio>
+#include <exception>
+
+#include "apps/commands.hpp"
+#include "facecore/error.hpp"
+
+namespace {
+
+constexpr const char* kFooter =
+    R"(Exit codes: 0 success, 1 bad input (a file, device or value that is
+not what rostro expects), 2 bad usage (unknown option, missing argument).
+
+Example:
+  rostro fap info data/samples/wave.fap
+Run 'rostro COMMAND --help' for a command's options and an example.)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"rostro: facial performance capture to MPEG-4 facial animation parameters"};
+  app.set_version_flag("--version", "rostro " ROSTRO_VERSION);
+  app.footer(kFooter);
+  app.require_subcommand(1);
+  rostro::app::add_fap_commands(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  } catch (const rostro::InputError& e) {
+    std::fprintf(stderr, "rostro: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rostro: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

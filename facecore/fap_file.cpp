@@ -1,0 +1,344 @@
+// The MPEG-4 ASCII FAP format as Xface reads and writes it:
+//   <version> <name> <fps> <frame count>
+//   then per frame a mask line of 68 0/1 values and a value line: the frame number, then
+//   the values of the masked FAPs in order (FAP 1 takes 4, FAP 2 takes 6, others 1).
+// Lines starting with '#' are comments.
+
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "facecore/atomic_file.hpp"
+#include "facecore/error.hpp"
+#include "facecore/fap_formats.hpp"
+#include "facecore/line_reader.hpp"
+
+namespace rostro {
+
+int fap_value_count(int id) {
+  if (id == kVisemeFap) return 4;
+  if (id == kExpressionFap) return 6;
+  return 1;
+}
+
+namespace {
+
+// Reads a .fap file frame by frame. Problems are reported through `report`; in strict use
+// it throws, while the validator records them and resynchronises at the next line.
+class FapTextParser {
+ public:
+  explicit FapTextParser(const std::filesystem::path& path) : lines_(path) {}
+
+  // Returns the problem with the header, or nothing.
+  std::optional<std::string> read_header();
+  const FapHeader& header() const { return header_; }
+
+  enum class Step { Frame, End, Problem };
+  // Reads one frame. On Problem, `problem` holds "path:line: what" and the parser has
+  // consumed the offending line, so the caller may continue with the next frame.
+  Step next(FapFrame& frame, std::string& problem);
+
+ private:
+  bool next_content_line(std::string_view& line);
+  std::string at(const std::string& what) const {
+    return where(lines_.path(), lines_.line_number(), what);
+  }
+  Step parse_values(FapFrame& frame, std::string_view line, std::string& problem);
+
+  LineReader lines_;
+  FapHeader header_;
+  std::vector<std::string_view> tokens_;
+  std::bitset<kFapCount> mask_;
+  long frames_read_ = 0;
+  long last_frame_number_ = -1;
+  bool saw_extra_ = false;
+};
+
+bool FapTextParser::next_content_line(std::string_view& line) {
+  while (lines_.next(line)) {
+    std::size_t i = 0;
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    if (i == line.size() || line[i] == '#') continue;
+    return true;
+  }
+  return false;
+}
+
+std::optional<std::string> FapTextParser::read_header() {
+  std::string_view line;
+  if (!next_content_line(line))
+    return where(lines_.path(), 0, "empty file: expected a header 'version name fps frame_count'");
+  split_whitespace(line, tokens_);
+  if (tokens_.size() < 4)
+    return at("header has " + std::to_string(tokens_.size()) +
+              " fields, expected 'version name fps frame_count'");
+  double version = 0;
+  if (!parse_double(tokens_[0], version))
+    return at("header version '" + std::string(tokens_[0]) + "' is not a number");
+  header_.version = std::string(tokens_[0]);
+  // The name is any token; real files carry Windows paths. A name with spaces is joined.
+  header_.name = std::string(tokens_[1]);
+  for (std::size_t i = 2; i + 2 < tokens_.size(); ++i)
+    header_.name += " " + std::string(tokens_[i]);
+  const std::string_view fps = tokens_[tokens_.size() - 2];
+  const std::string_view count = tokens_.back();
+  if (!parse_double(fps, header_.fps) || header_.fps <= 0)
+    return at("header fps '" + std::string(fps) + "' is not a positive number");
+  if (!parse_long(count, header_.frame_count) || header_.frame_count < 0)
+    return at("header frame count '" + std::string(count) + "' is not a whole number >= 0");
+  return std::nullopt;
+}
+
+FapTextParser::Step FapTextParser::next(FapFrame& frame, std::string& problem) {
+  std::string_view line;
+  if (!next_content_line(line)) {
+    if (frames_read_ < header_.frame_count) {
+      problem = where(lines_.path(), lines_.line_number(),
+                      "file ends after " + std::to_string(frames_read_) + " frames, header says " +
+                          std::to_string(header_.frame_count) + " (truncated?)");
+      frames_read_ = header_.frame_count;  // report truncation once
+      return Step::Problem;
+    }
+    return Step::End;
+  }
+  if (frames_read_ >= header_.frame_count && !saw_extra_) {
+    saw_extra_ = true;
+    problem = at("more frames than the header's count of " + std::to_string(header_.frame_count));
+    return Step::Problem;
+  }
+  split_whitespace(line, tokens_);
+  if (tokens_.size() != kFapCount) {
+    problem = at("mask line has " + std::to_string(tokens_.size()) + " values, expected 68");
+    std::string_view skipped;
+    next_content_line(skipped);  // its value line
+    ++frames_read_;
+    return Step::Problem;
+  }
+  mask_.reset();
+  for (std::size_t i = 0; i < tokens_.size(); ++i) {
+    if (tokens_[i] == "1") {
+      mask_.set(i);
+    } else if (tokens_[i] != "0") {
+      problem = at("mask value " + std::to_string(i + 1) + " is '" + std::string(tokens_[i]) +
+                   "', expected 0 or 1");
+      std::string_view skipped;
+      next_content_line(skipped);
+      ++frames_read_;
+      return Step::Problem;
+    }
+  }
+  if (!next_content_line(line)) {
+    problem = at("file ends after a mask line: expected the frame's value line (truncated?)");
+    frames_read_ = header_.frame_count;
+    return Step::Problem;
+  }
+  ++frames_read_;
+  return parse_values(frame, line, problem);
+}
+
+FapTextParser::Step FapTextParser::parse_values(FapFrame& frame, std::string_view line,
+                                                std::string& problem) {
+  split_whitespace(line, tokens_);
+  std::size_t expected = 1;
+  for (int id = 1; id <= kFapCount; ++id)
+    if (mask_.test(static_cast<std::size_t>(id - 1)))
+      expected += static_cast<std::size_t>(fap_value_count(id));
+  if (tokens_.size() != expected) {
+    problem = at("value line has " + std::to_string(tokens_.size()) + " fields, expected " +
+                 std::to_string(expected) + " (frame number + values of " +
+                 std::to_string(mask_.count()) + " masked FAPs)");
+    return Step::Problem;
+  }
+  long number = 0;
+  if (!parse_long(tokens_[0], number) || number < 0) {
+    problem = at("frame number '" + std::string(tokens_[0]) + "' is not a whole number >= 0");
+    return Step::Problem;
+  }
+  if (number <= last_frame_number_) {
+    problem = at("frame number " + std::to_string(number) + " is out of order (after " +
+                 std::to_string(last_frame_number_) + ")");
+    return Step::Problem;
+  }
+  frame = FapFrame{};
+  frame.index = number;
+  frame.time_s = static_cast<double>(number) / header_.fps;
+  frame.mask = mask_;
+  std::size_t t = 1;
+  auto integer = [&](int& out) {
+    double v = 0;
+    if (!parse_double(tokens_[t], v)) return false;
+    out = static_cast<int>(std::lround(v));
+    ++t;
+    return true;
+  };
+  for (int id = 1; id <= kFapCount; ++id) {
+    if (!mask_.test(static_cast<std::size_t>(id - 1))) continue;
+    const std::size_t first = t;
+    bool ok = true;
+    if (id == kVisemeFap) {
+      VisemeParams& v = frame.viseme;
+      ok = integer(v.select1) && integer(v.select2) && integer(v.blend) && integer(v.def);
+    } else if (id == kExpressionFap) {
+      ExpressionParams& e = frame.expression;
+      ok = integer(e.select1) && integer(e.intensity1) && integer(e.select2) &&
+           integer(e.intensity2) && integer(e.init_face) && integer(e.def);
+    } else {
+      ok = parse_double(tokens_[t], frame.values[static_cast<std::size_t>(id - 1)]);
+      ++t;
+    }
+    if (!ok) {
+      const std::size_t bad = std::min(t, tokens_.size() - 1);
+      problem =
+          at("value of FAP " + std::to_string(id) + " (" + std::string(fap_info(id).name) +
+             ") is '" + std::string(tokens_[bad == first ? first : bad]) + "', expected a number");
+      return Step::Problem;
+    }
+  }
+  last_frame_number_ = number;
+  return Step::Frame;
+}
+
+class FapTextSource final : public FapSource {
+ public:
+  explicit FapTextSource(const std::filesystem::path& path) : parser_(path) {
+    if (auto problem = parser_.read_header()) throw InputError(*problem);
+  }
+  const FapHeader& header() const override { return parser_.header(); }
+  bool next(FapFrame& frame) override {
+    std::string problem;
+    switch (parser_.next(frame, problem)) {
+      case FapTextParser::Step::Frame:
+        return true;
+      case FapTextParser::Step::End:
+        return false;
+      case FapTextParser::Step::Problem:
+        break;
+    }
+    throw InputError(problem);
+  }
+
+ private:
+  FapTextParser parser_;
+};
+
+// Writes the count into a fixed-width field at the end of the header line once it is known,
+// so that frames can stream out without knowing their number in advance.
+constexpr int kCountFieldWidth = 12;
+
+class FapTextSink final : public FapSink {
+ public:
+  FapTextSink(const std::filesystem::path& path, const FapHeader& header) : file_(path) {
+    std::string name = header.name.empty() ? std::string("rostro") : header.name;
+    for (char& c : name)
+      if (c == ' ' || c == '\t' || c == '\n' || c == '\r') c = '_';
+    std::string line = header.version + " " + name + " ";
+    detail::append_number(line, header.fps);
+    line += ' ';
+    count_offset_ = static_cast<long>(line.size());
+    line.append(kCountFieldWidth, ' ');
+    line += '\n';
+    file_.write(line);
+    buffer_.reserve(1 << 16);
+  }
+
+  void write(const FapFrame& frame) override {
+    buffer_.clear();
+    for (int i = 0; i < kFapCount; ++i) {
+      buffer_ += frame.mask.test(static_cast<std::size_t>(i)) ? '1' : '0';
+      buffer_ += i + 1 < kFapCount ? ' ' : '\n';
+    }
+    append_int(frame.index);
+    for (int id = 1; id <= kFapCount; ++id) {
+      if (!frame.has(id)) continue;
+      if (id == kVisemeFap) {
+        const VisemeParams& v = frame.viseme;
+        for (int x : {v.select1, v.select2, v.blend, v.def}) space_int(x);
+      } else if (id == kExpressionFap) {
+        const ExpressionParams& e = frame.expression;
+        for (int x : {e.select1, e.intensity1, e.select2, e.intensity2, e.init_face, e.def})
+          space_int(x);
+      } else {
+        // The standard quantises FAPs to integers in their unit.
+        space_int(std::lround(frame.values[static_cast<std::size_t>(id - 1)]));
+      }
+    }
+    buffer_ += '\n';
+    file_.write(buffer_);
+    ++written_;
+  }
+
+  void finish() override {
+    std::FILE* f = file_.handle();
+    char field[kCountFieldWidth + 1];
+    std::snprintf(field, sizeof field, "%-*ld", kCountFieldWidth, written_);
+    if (std::fseek(f, count_offset_, SEEK_SET) != 0 ||
+        std::fwrite(field, 1, kCountFieldWidth, f) != kCountFieldWidth)
+      throw InputError(file_.destination().string() + ": cannot write the frame count");
+    file_.commit();
+  }
+
+  long frames_written() const override { return written_; }
+
+ private:
+  void append_int(long value) {
+    char digits[24];
+    auto [end, ec] = std::to_chars(digits, digits + sizeof digits, value);
+    buffer_.append(digits, end);
+  }
+  void space_int(long value) {
+    buffer_ += ' ';
+    append_int(value);
+  }
+
+  AtomicFile file_;
+  std::string buffer_;
+  long count_offset_ = 0;
+  long written_ = 0;
+};
+
+}  // namespace
+
+namespace detail {
+
+std::unique_ptr<FapSource> open_fap_text_source(const std::filesystem::path& path) {
+  return std::make_unique<FapTextSource>(path);
+}
+
+std::unique_ptr<FapSink> open_fap_text_sink(const std::filesystem::path& path,
+                                            const FapHeader& header) {
+  return std::make_unique<FapTextSink>(path, header);
+}
+
+void append_number(std::string& out, double value) {
+  char digits[32];
+  auto [end, ec] = std::to_chars(digits, digits + sizeof digits, value);
+  out.append(digits, end);
+}
+
+}  // namespace detail
+
+std::vector<std::string> validate_fap_file(const std::filesystem::path& path,
+                                           std::size_t max_problems) {
+  std::vector<std::string> problems;
+  FapTextParser parser(path);
+  if (auto problem = parser.read_header()) return {*problem};
+  FapFrame frame;
+  std::string problem;
+  for (;;) {
+    const auto step = parser.next(frame, problem);
+    if (step == FapTextParser::Step::End) break;
+    if (step == FapTextParser::Step::Problem) {
+      problems.push_back(problem);
+      if (problems.size() >= max_problems) {
+        problems.push_back(path.string() + ": stopped after " + std::to_string(max_problems) +
+                           " problems");
+        break;
+      }
+    }
+  }
+  return problems;
+}
+
+}  // namespace rostro

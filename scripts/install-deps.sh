@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package rostro builds and runs with. Idempotent: packages
+# already present are left alone, so running it twice is cheap.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config clang-format git
+  libeigen3-dev libopencv-dev libceres-dev libapriltag-dev
+  libv4l-dev v4l-utils libcamera-dev
+  libespeak-ng-dev espeak-ng-data
+  libegl-dev libgl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev
+  libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  liblo-dev ffmpeg
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+echo "install-deps: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
