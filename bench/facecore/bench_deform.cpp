@@ -1,0 +1,67 @@
+// Deformation time per frame with every low-level FAP moving (translations, eyeball and head
+// rotations), for the default head and a 200,000-vertex head. One core.
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+
+#include "facecore/deformer.hpp"
+#include "facecore/head_generator.hpp"
+
+namespace {
+
+struct Setup {
+  rostro::FaceModel model;
+  std::unique_ptr<rostro::Deformer> deformer;
+};
+
+const Setup& setup(int vertices) {
+  static std::map<int, std::unique_ptr<Setup>> cache;
+  auto& s = cache[vertices];
+  if (!s) {
+    s = std::make_unique<Setup>();
+    s->model = rostro::generate_head(rostro::HeadOptions{vertices});
+    s->deformer = std::make_unique<rostro::Deformer>(s->model);
+  }
+  return *s;
+}
+
+void BM_Deform(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  std::vector<Eigen::Vector3f> positions;
+  long frame = 0;
+  for (auto _ : state) {
+    // Every FAP 3..68 set and changing from frame to frame.
+    rostro::FapFrame f;
+    for (int id = 3; id <= rostro::kFapCount; ++id)
+      f.set(id, 100.0 + static_cast<double>((frame * 7 + id * 13) % 50));
+    s.deformer->deform(f, positions);
+    benchmark::DoNotOptimize(positions.data());
+    ++frame;
+  }
+  state.counters["vertices"] = static_cast<double>(s.model.positions.size());
+}
+BENCHMARK(BM_Deform)->Arg(5000)->Arg(200000)->Unit(benchmark::kMillisecond);
+
+void BM_Normals(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  std::vector<Eigen::Vector3f> normals;
+  for (auto _ : state) {
+    s.deformer->normals(s.model.positions, normals);
+    benchmark::DoNotOptimize(normals.data());
+  }
+}
+BENCHMARK(BM_Normals)->Arg(5000)->Arg(200000)->Unit(benchmark::kMillisecond);
+
+void BM_Compile(benchmark::State& state) {
+  const Setup& s = setup(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    rostro::Deformer d(s.model);
+    benchmark::DoNotOptimize(&d);
+  }
+}
+BENCHMARK(BM_Compile)->Arg(5000)->Arg(200000)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
+BENCHMARK_MAIN();

@@ -1,0 +1,316 @@
+// Properties of the deformation core on the generated default head: neutral exactness, each
+// FAP moving its own feature point by value x FAPU, left/right mirror symmetry, locality.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <map>
+#include <set>
+
+#include "facecore/deformer.hpp"
+#include "facecore/error.hpp"
+#include "facecore/head_generator.hpp"
+
+namespace rostro {
+namespace {
+
+// One head for the whole suite (generation takes a fraction of a second).
+const FaceModel& head() {
+  static const FaceModel model = generate_head(HeadOptions{5000});
+  return model;
+}
+const Deformer& deformer() {
+  static const Deformer d(head());
+  return d;
+}
+
+std::vector<Eigen::Vector3f> deform_one(int fap, double value) {
+  FapFrame frame;
+  frame.set(fap, value);
+  std::vector<Eigen::Vector3f> out;
+  deformer().deform(frame, out);
+  return out;
+}
+
+// A test value inside the FAP's range: unidirectional FAPs only take positive values.
+double test_value(const FapInfo& info) {
+  return info.unit == FapUnit::IRISD ? 300.0 : 200.0;
+}
+
+TEST(Deformer, AllFapsZeroGivesTheNeutralMeshExactly) {
+  std::vector<Eigen::Vector3f> out;
+  deformer().deform(FapFrame{}, out);
+  ASSERT_EQ(out.size(), head().positions.size());
+  for (std::size_t v = 0; v < out.size(); ++v)
+    ASSERT_EQ(out[v], head().positions[v]) << "vertex " << v;
+  // Zeros that are explicitly set are the same as unset FAPs.
+  FapFrame zeros;
+  for (int id = 3; id <= kFapCount; ++id) zeros.set(id, 0.0);
+  deformer().deform(zeros, out);
+  for (std::size_t v = 0; v < out.size(); ++v)
+    ASSERT_EQ(out[v], head().positions[v]) << "vertex " << v;
+}
+
+TEST(Deformer, EachFapMovesItsFeaturePointByValueTimesFapuAlongItsAxis) {
+  int checked = 0;
+  for (int id = 3; id <= 64; ++id) {
+    const FapInfo& info = fap_info(id);
+    const auto point = parse_feature_point(info.feature_point);
+    if (!point || info.unit == FapUnit::AU) continue;  // rotations are tested below
+    ASSERT_TRUE(head().has_feature_point(*point)) << info.name << " needs " << info.feature_point;
+    const double value = test_value(info);
+    const auto moved = deform_one(id, value);
+    const int v = head().feature_points.at(*point);
+    const Eigen::Vector3d d =
+        (moved[static_cast<std::size_t>(v)] - head().positions[static_cast<std::size_t>(v)])
+            .cast<double>();
+    const auto a = fap_axis(info);
+    const Eigen::Vector3d expected =
+        value * head().fapu.unit_size(info.unit) * Eigen::Vector3d(a[0], a[1], a[2]);
+    const double tolerance = 0.01 * std::max(expected.norm(), 1e-3) + 1e-4;
+    EXPECT_LE((d - expected).norm(), tolerance)
+        << info.name << " moved " << info.feature_point << " by " << d.transpose() << ", expected "
+        << expected.transpose();
+    ++checked;
+  }
+  EXPECT_GE(checked, 50);
+}
+
+TEST(Deformer, EyeballsRotateByTheirAngleAboutTheirPivots) {
+  const double value = 20000;  // 0.2 rad
+  const double angle = value * kAngleUnitRad;
+  struct Case {
+    int fap;
+    FeaturePointId pupil;
+    const RigidPart* part;
+    Eigen::Vector3d axis;  // rotation axis for a positive value
+  };
+  const RigidParts& p = head().parts;
+  for (const Case& c : {Case{23, {3, 5}, &p.left_eyeball, Eigen::Vector3d::UnitY()},
+                        Case{24, {3, 6}, &p.right_eyeball, Eigen::Vector3d::UnitY()},
+                        Case{25, {3, 5}, &p.left_eyeball, Eigen::Vector3d::UnitX()},
+                        Case{26, {3, 6}, &p.right_eyeball, Eigen::Vector3d::UnitX()}}) {
+    const auto moved = deform_one(c.fap, value);
+    const Eigen::Vector3d pupil = head().feature_point(c.pupil);
+    const Eigen::Vector3d expected =
+        c.part->pivot + Eigen::AngleAxisd(angle, c.axis) * (pupil - c.part->pivot);
+    const int v = head().feature_points.at(c.pupil);
+    EXPECT_LT((moved[static_cast<std::size_t>(v)].cast<double>() - expected).norm(), 1e-3)
+        << "FAP " << c.fap;
+    // The gaze turns the way the FAP table says: yaw toward the left (+x), pitch down (-y).
+    const Eigen::Vector3d gaze = moved[static_cast<std::size_t>(v)].cast<double>() - c.part->pivot;
+    if (c.fap <= 24) {
+      EXPECT_GT(gaze.x(), 0) << "FAP " << c.fap;
+    } else {
+      EXPECT_LT(gaze.y(), 0) << "FAP " << c.fap;
+    }
+    // The eyeball is rigid: distances to the pivot are kept.
+    for (int u : c.part->vertices) {
+      const double r0 =
+          (head().positions[static_cast<std::size_t>(u)].cast<double>() - c.part->pivot).norm();
+      const double r1 = (moved[static_cast<std::size_t>(u)].cast<double>() - c.part->pivot).norm();
+      ASSERT_NEAR(r0, r1, 1e-3);
+    }
+  }
+}
+
+TEST(Deformer, HeadRotatesAboutSevenOne) {
+  const double angle = 0.15;
+  const Eigen::Vector3d pivot = head().feature_point({7, 1});
+  const Eigen::Vector3d tip = head().feature_point({9, 3});
+  struct Case {
+    int fap;
+    Eigen::Vector3d axis;
+  };
+  for (const Case& c : {Case{48, Eigen::Vector3d::UnitX()}, Case{49, Eigen::Vector3d::UnitY()},
+                        Case{50, Eigen::Vector3d::UnitZ()}}) {
+    const auto moved = deform_one(c.fap, angle / kAngleUnitRad);
+    const Eigen::Vector3d expected = pivot + Eigen::AngleAxisd(angle, c.axis) * (tip - pivot);
+    const int v = head().feature_points.at({9, 3});
+    EXPECT_LT((moved[static_cast<std::size_t>(v)].cast<double>() - expected).norm(), 1e-3)
+        << "FAP " << c.fap;
+  }
+  // Pitch positive looks down: the nose tip goes down.
+  EXPECT_LT(deform_one(48, 10000)[static_cast<std::size_t>(head().feature_points.at({9, 3}))].y(),
+            static_cast<float>(tip.y()));
+}
+
+TEST(Deformer, TongueRollRaisesTheTongueBorders) {
+  const double value = 10000;
+  const auto moved = deform_one(47, value);
+  const Eigen::Vector3d tip = head().feature_point({6, 1});
+  for (FeaturePointId p : {FeaturePointId{6, 3}, FeaturePointId{6, 4}}) {
+    const Eigen::Vector3d border = head().feature_point(p);
+    const double rise =
+        moved[static_cast<std::size_t>(head().feature_points.at(p))].y() - border.y();
+    EXPECT_NEAR(rise, std::abs(border.x() - tip.x()) * value * kAngleUnitRad, 1e-3);
+  }
+}
+
+// The vertex at the mirrored position (the generated head is exactly symmetric).
+int mirror_vertex(int v) {
+  static const std::multimap<std::array<long, 3>, int> index = [] {
+    std::multimap<std::array<long, 3>, int> m;
+    const auto& p = head().positions;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      m.emplace(std::array<long, 3>{std::lround(p[i].x() * 1e3), std::lround(p[i].y() * 1e3),
+                                    std::lround(p[i].z() * 1e3)},
+                static_cast<int>(i));
+    return m;
+  }();
+  const Eigen::Vector3f& q = head().positions[static_cast<std::size_t>(v)];
+  const auto it =
+      index.find({std::lround(-q.x() * 1e3), std::lround(q.y() * 1e3), std::lround(q.z() * 1e3)});
+  return it == index.end() ? -1 : it->second;
+}
+
+TEST(Deformer, LeftAndRightTwinFapsMoveMirrorImageVertices) {
+  int pairs = 0;
+  for (int id = 3; id <= 64; ++id) {
+    const FapInfo& left = fap_info(id);
+    // Twins differ by "l" <-> "r" in one name token (stretch_l_cornerlip, raise_b_lip_lm).
+    std::string twin_name(left.name);
+    bool found = false;
+    for (const char* from : {"_l_", "_lm"}) {
+      const auto at = twin_name.find(from);
+      if (at == std::string::npos) continue;
+      twin_name[at + 1] = 'r';
+      found = true;
+      break;
+    }
+    if (!found) continue;
+    const auto right_id = find_fap(twin_name);
+    ASSERT_TRUE(right_id) << twin_name;
+    const FapInfo& right = fap_info(*right_id);
+    // Mirror the left axis; a twin whose positive direction is not the mirror image (both
+    // "Left", e.g. eyeball yaw) takes the opposite value.
+    const auto la = fap_axis(left), ra = fap_axis(right);
+    double sign = 1.0;
+    if (left.unit == FapUnit::AU)
+      sign = left.positive == FapDirection::Left ? -1.0 : 1.0;
+    else if (-la[0] * ra[0] + la[1] * ra[1] + la[2] * ra[2] < 0)
+      sign = -1.0;
+    const double value = test_value(left);
+    const auto a = deform_one(id, value), b = deform_one(*right_id, sign * value);
+    for (std::size_t v = 0; v < a.size(); ++v) {
+      const Eigen::Vector3f da = a[v] - head().positions[v];
+      if (da.norm() < 1e-5f) continue;
+      const int m = mirror_vertex(static_cast<int>(v));
+      ASSERT_GE(m, 0) << "vertex " << v << " has no mirror image";
+      const Eigen::Vector3f db =
+          b[static_cast<std::size_t>(m)] - head().positions[static_cast<std::size_t>(m)];
+      ASSERT_LT((Eigen::Vector3f(-da.x(), da.y(), da.z()) - db).norm(), 1e-3f + 0.01f * da.norm())
+          << left.name << " vs " << right.name << " at vertex " << v;
+    }
+    ++pairs;
+  }
+  EXPECT_GE(pairs, 20);
+}
+
+// Vertices that FAP `id` may move: regions whose points it moves, and the parts it drives.
+std::set<int> allowed_vertices(int id) {
+  std::set<int> out;
+  const FapInfo& info = fap_info(id);
+  const auto point = parse_feature_point(info.feature_point);
+  for (const InfluenceRegion& r : head().regions) {
+    if (!r.faps.empty() && std::find(r.faps.begin(), r.faps.end(), id) == r.faps.end()) continue;
+    if (point && std::find(r.feature_points.begin(), r.feature_points.end(), *point) !=
+                     r.feature_points.end())
+      out.insert(r.vertices.begin(), r.vertices.end());
+  }
+  const RigidParts& p = head().parts;
+  auto add = [&](const RigidPart& part) { out.insert(part.vertices.begin(), part.vertices.end()); };
+  if (id == 3 || id == 14 || id == 15)
+    for (const RigidPart* part : {&p.lower_teeth, &p.tongue, &p.jaw, &p.upper_teeth})
+      if (part->jaw_gain != 0) add(*part);
+  if (id == 23 || id == 25 || id == 27 || id == 29) add(p.left_eyeball);
+  if (id == 24 || id == 26 || id == 28 || id == 30) add(p.right_eyeball);
+  if (id == 47) add(p.tongue);
+  return out;
+}
+
+TEST(Deformer, AFapMovesNothingOutsideItsRegions) {
+  for (int id = 3; id <= kFapCount; ++id) {
+    if (id >= 48 && id <= 50) continue;  // the whole head turns
+    const auto allowed = allowed_vertices(id);
+    const auto moved = deform_one(id, test_value(fap_info(id)));
+    int moving = 0;
+    for (std::size_t v = 0; v < moved.size(); ++v) {
+      if (moved[v] == head().positions[v]) continue;
+      ++moving;
+      ASSERT_TRUE(allowed.count(static_cast<int>(v))) << fap_info(id).name << " moved vertex " << v;
+    }
+    if (id <= 64) {
+      EXPECT_GT(moving, 0) << fap_info(id).name << " moves nothing";
+    }
+  }
+}
+
+TEST(Deformer, LinearMapMatchesDeform) {
+  const Eigen::SparseMatrix<double> m = deformer().linear_map();
+  ASSERT_EQ(m.rows(), static_cast<Eigen::Index>(3 * head().positions.size()));
+  Eigen::VectorXd faps = Eigen::VectorXd::Zero(kFapCount);
+  faps[3 - 1] = 300;
+  faps[12 - 1] = 150;
+  faps[31 - 1] = -100;
+  std::vector<Eigen::Vector3f> out;
+  deformer().deform(faps, out);
+  const Eigen::VectorXd d = m * faps;
+  for (std::size_t v = 0; v < out.size(); ++v)
+    for (int a = 0; a < 3; ++a)
+      ASSERT_NEAR(out[v][a] - head().positions[v][a], d[static_cast<Eigen::Index>(3 * v) + a],
+                  1e-3);
+}
+
+TEST(Deformer, NormalsAreUnitAndPointOutOfTheFace) {
+  std::vector<Eigen::Vector3f> normals;
+  deformer().normals(head().positions, normals);
+  ASSERT_EQ(normals.size(), head().positions.size());
+  for (const Eigen::Vector3f& n : normals) ASSERT_NEAR(n.norm(), 1.0f, 1e-4f);
+  EXPECT_GT(normals[static_cast<std::size_t>(head().feature_points.at({9, 3}))].z(),
+            0.5f);  // nose tip
+  EXPECT_GT(normals[static_cast<std::size_t>(head().feature_points.at({11, 4}))].y(),
+            0.5f);  // skull top
+}
+
+TEST(HeadGenerator, HasTheFeaturePointsTheFapsAndFapuNeed) {
+  for (int id = 3; id <= 64; ++id) {
+    const auto point = parse_feature_point(fap_info(id).feature_point);
+    if (point) {
+      EXPECT_TRUE(head().has_feature_point(*point)) << fap_info(id).name;
+    }
+  }
+  for (FeaturePointId p :
+       {FeaturePointId{3, 1}, {3, 3}, {3, 5}, {3, 6}, {9, 15}, {2, 2}, {8, 3}, {8, 4}, {7, 1}})
+    EXPECT_TRUE(head().has_feature_point(p)) << p.str();
+  const Fapu& f = head().fapu;
+  EXPECT_NEAR(f.es0, 64, 1);
+  EXPECT_GT(f.irisd0, 8);
+  EXPECT_GT(f.mw0, 40);
+  EXPECT_GT(f.mns0, 10);
+  EXPECT_GT(f.ens0, 25);
+}
+
+TEST(HeadGenerator, ResolutionFollowsTheRequestedVertexCount) {
+  for (int n : {3000, 20000}) {
+    const FaceModel m = generate_head(HeadOptions{n});
+    EXPECT_NEAR(static_cast<double>(m.positions.size()), n, 0.15 * n) << n;
+  }
+  EXPECT_NEAR(static_cast<double>(head().positions.size()), 5000, 750);
+  EXPECT_THROW(generate_head(HeadOptions{100}), InputError);
+}
+
+TEST(HeadGenerator, EyelidsCloseTheEye) {
+  // Closing both lids by half an IRISD each brings the lid centres together.
+  FapFrame f;
+  f.set(19, 512);
+  f.set(21, 512);
+  std::vector<Eigen::Vector3f> out;
+  deformer().deform(f, out);
+  const float gap = out[static_cast<std::size_t>(head().feature_points.at({3, 1}))].y() -
+                    out[static_cast<std::size_t>(head().feature_points.at({3, 3}))].y();
+  EXPECT_NEAR(gap, 0.0f, 0.05f);
+}
+
+}  // namespace
+}  // namespace rostro

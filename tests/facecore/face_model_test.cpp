@@ -1,0 +1,147 @@
+// The face model loader: the default head round-trips, and each kind of bad description is
+// one clear InputError.
+
+#include "facecore/face_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "facecore/error.hpp"
+#include "facecore/head_generator.hpp"
+
+namespace rostro {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FaceModelFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(ROSTRO_BINARY_DIR) / "test_face_model" /
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A tiny square face: four vertices, two triangles, the FAPU points and one region.
+    std::ofstream(dir_ / "face.obj")
+        << "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\n"
+           "usemtl skin\nf 1 2 3\nf 1 3 4\n";
+    description_ = {{"mesh", "face.obj"},
+                    {"feature_points",
+                     {{"3.1", 3},
+                      {"3.3", 0},
+                      {"3.5", 2},
+                      {"3.6", 3},
+                      {"9.15", 1},
+                      {"2.2", 0},
+                      {"8.3", 1},
+                      {"8.4", 0}}},
+                    {"regions", nlohmann::json::array({{{"name", "cheek"},
+                                                        {"function", "raised_cosine"},
+                                                        {"feature_points", {"3.5"}},
+                                                        {"vertices", {0, 1, 2}}}})}};
+  }
+  fs::path write(const nlohmann::json& j) {
+    const fs::path p = dir_ / "face.json";
+    std::ofstream(p) << j.dump();
+    return p;
+  }
+  std::string error_of(const nlohmann::json& j) {
+    try {
+      load_face_model(write(j));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  fs::path dir_;
+  nlohmann::json description_;
+};
+
+TEST_F(FaceModelFiles, LoadsAValidDescription) {
+  const FaceModel m = load_face_model(write(description_));
+  EXPECT_EQ(m.positions.size(), 4u);
+  EXPECT_EQ(m.triangles.size(), 2u);
+  ASSERT_EQ(m.colors.size(), 4u);
+  EXPECT_EQ(m.colors[1], Eigen::Vector3f(0, 1, 0));
+  EXPECT_EQ(m.feature_points.at({3, 5}), 2);
+  ASSERT_EQ(m.regions.size(), 1u);
+  EXPECT_EQ(m.regions[0].kind, InfluenceKind::RaisedCosine);
+  EXPECT_DOUBLE_EQ(m.fapu.es0, 1.0);  // |3.5.x - 3.6.x| = |1 - 0|
+}
+
+TEST_F(FaceModelFiles, VertexIndexOutOfRangeIsOneClearError) {
+  description_["regions"][0]["vertices"] = {0, 1, 7};
+  const std::string e = error_of(description_);
+  EXPECT_NE(e.find("face.json"), std::string::npos) << e;
+  EXPECT_NE(e.find("vertex index 7 is out of range"), std::string::npos) << e;
+  EXPECT_NE(e.find("cheek"), std::string::npos) << e;
+  description_["feature_points"]["3.5"] = 4;
+  EXPECT_NE(error_of(description_).find("out of range"), std::string::npos);
+}
+
+TEST_F(FaceModelFiles, UnknownFeaturePointIsOneClearError) {
+  description_["feature_points"]["3.99"] = 1;
+  EXPECT_NE(error_of(description_).find("unknown feature point '3.99'"), std::string::npos);
+  description_["feature_points"].erase("3.99");
+  description_["regions"][0]["feature_points"] = {"12.1"};
+  EXPECT_NE(error_of(description_).find("unknown feature point '12.1'"), std::string::npos);
+  // A known point the model does not place.
+  description_["regions"][0]["feature_points"] = {"4.1"};
+  EXPECT_NE(error_of(description_).find("feature point 4.1 is not in the model"),
+            std::string::npos);
+}
+
+TEST_F(FaceModelFiles, RegionWithoutFeaturePointIsOneClearError) {
+  description_["regions"][0]["feature_points"] = nlohmann::json::array();
+  const std::string e = error_of(description_);
+  EXPECT_NE(e.find("region 'cheek': has no feature point"), std::string::npos) << e;
+}
+
+TEST_F(FaceModelFiles, OtherMistakesAreInputErrors) {
+  description_["regions"][0]["function"] = "gaussian";
+  EXPECT_NE(error_of(description_).find("function must be"), std::string::npos);
+  EXPECT_NE(error_of(nlohmann::json{{"feature_points", nlohmann::json::object()}}).find("'mesh'"),
+            std::string::npos);
+  std::ofstream(dir_ / "face.obj") << "v 0 0 0\nf 1 2 3\n";
+  EXPECT_NE(error_of(description_).find("out of range"), std::string::npos);
+  std::ofstream(dir_ / "bad.json") << "{ not json";
+  EXPECT_THROW(load_face_model(dir_ / "bad.json"), InputError);
+  EXPECT_THROW(load_face_model(dir_ / "missing.json"), InputError);
+}
+
+TEST_F(FaceModelFiles, GeneratedHeadRoundTripsThroughObjAndJson) {
+  const FaceModel a = generate_head(HeadOptions{3000});
+  save_face_model(a, dir_ / "head", "head");
+  const FaceModel b = load_face_model(dir_ / "head" / "head.json");
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t v = 0; v < a.positions.size(); ++v)
+    ASSERT_LT((a.positions[v] - b.positions[v]).norm(), 1e-4f);
+  EXPECT_EQ(a.triangles, b.triangles);
+  ASSERT_EQ(a.triangle_materials.size(), b.triangle_materials.size());
+  for (std::size_t t = 0; t < a.triangle_materials.size(); ++t)
+    ASSERT_EQ(a.materials[static_cast<std::size_t>(a.triangle_materials[t])],
+              b.materials[static_cast<std::size_t>(b.triangle_materials[t])]);
+  EXPECT_EQ(a.feature_points, b.feature_points);
+  ASSERT_EQ(a.regions.size(), b.regions.size());
+  for (std::size_t r = 0; r < a.regions.size(); ++r) {
+    EXPECT_EQ(a.regions[r].vertices, b.regions[r].vertices) << a.regions[r].name;
+    EXPECT_EQ(a.regions[r].kind, b.regions[r].kind) << a.regions[r].name;
+    EXPECT_EQ(a.regions[r].anchors, b.regions[r].anchors) << a.regions[r].name;
+  }
+  EXPECT_EQ(a.parts.left_eyeball.vertices, b.parts.left_eyeball.vertices);
+  EXPECT_NEAR(a.fapu.mw0, b.fapu.mw0, 1e-3);
+}
+
+TEST(DefaultHead, LoadsFromData) {
+  const fs::path path = fs::path(ROSTRO_DATA_DIR) / "head" / "head.json";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " is not generated yet";
+  const FaceModel m = load_face_model(path);
+  EXPECT_GT(m.positions.size(), 4000u);
+  EXPECT_TRUE(m.has_feature_point({7, 1}));
+}
+
+}  // namespace
+}  // namespace rostro
