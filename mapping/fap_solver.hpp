@@ -1,0 +1,63 @@
+#pragma once
+// The per-frame fit: head pose (angle-axis + translation) and the FAPs of the marked feature
+// points, minimising the markers' reprojection error. Each marker's 3D position is its
+// neutral position moved by the FAPs acting on it (value x actor FAPU along fap_axis()).
+// Robust loss, lower bounds for unidirectional FAPs, a weak pull toward the previous frame,
+// warm-started from the previous frame. Ceres with automatic derivatives.
+
+#include <memory>
+#include <optional>
+
+#include "calib/actor_profile.hpp"
+#include "facecore/fap_frame.hpp"
+#include "mapping/marker_model.hpp"
+#include "tracking/tracked_frame.hpp"
+
+namespace rostro::mapping {
+
+enum class RobustLoss { None, Huber, Cauchy };
+
+struct SolverOptions {
+  MarkerModelOptions model;
+  RobustLoss loss = RobustLoss::Huber;
+  double loss_scale_px = 2.0;  // residuals beyond this many pixels count less
+  // Pull toward the previous frame (toward neutral on the first): a FAP change that moves
+  // its marker by p pixels costs as much as a reprojection error of prior_weight x p.
+  double prior_weight = 0.05;
+  int max_iterations = 25;
+  int min_markers = 4;    // fewer valid markers: the frame is not fitted
+  bool head_faps = true;  // report the head rotation from neutral as FAPs 48-50
+};
+
+struct FitResult {
+  FapFrame faps;            // fitted FAPs (profile gains applied); 48-50 if head_faps
+  tracking::HeadPose pose;  // head frame -> camera frame (OpenCV convention)
+  double rms_px = 0;        // RMS reprojection error over the markers used
+  int markers_used = 0;
+  int iterations = 0;
+  bool ok = false;  // false: too few markers, nothing measured this frame
+};
+
+class FapSolver {
+ public:
+  explicit FapSolver(const calib::ActorProfile& profile, const SolverOptions& options = {});
+  ~FapSolver();
+  FapSolver(const FapSolver&) = delete;
+  FapSolver& operator=(const FapSolver&) = delete;
+
+  FitResult fit(const tracking::TrackedFrame& frame);
+  // Forgets the previous frame: the next fit starts from the neutral pose and face.
+  void reset();
+  const MarkerModel& model() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Head rotation relative to the neutral pose as FAP values (AU): pitch (48, down positive),
+// yaw (49, toward the face's left), roll (50, toward the face's right); H = Ry Rx Rz.
+std::array<double, 3> head_rotation_faps(const tracking::HeadPose& neutral,
+                                         const tracking::HeadPose& pose);
+
+}  // namespace rostro::mapping

@@ -1,0 +1,135 @@
+// FAPU estimation and actor calibration from synthetic neutral frames.
+#include "calib/actor_calibration.hpp"
+
+#include <gtest/gtest.h>
+
+#include "calib/fapu_estimation.hpp"
+#include "calib/generic_face.hpp"
+#include "facecore/error.hpp"
+#include "tests/mapping/synthetic_face.hpp"
+
+namespace rostro::calib {
+namespace {
+
+TEST(GenericFace, HasAll84PointsAndIsSymmetric) {
+  const auto& face = generic_face_points();
+  EXPECT_EQ(face.size(), static_cast<std::size_t>(kFeaturePointCount));
+  for (const auto& [id, p] : face) {
+    const auto& twin = face.at(mirror(id));
+    EXPECT_DOUBLE_EQ(twin.x(), -p.x()) << id.str();
+    EXPECT_DOUBLE_EQ(twin.y(), p.y()) << id.str();
+  }
+  const Fapu f = fapu_from_feature_points(face);
+  EXPECT_DOUBLE_EQ(f.es0, 63);
+  EXPECT_DOUBLE_EQ(f.ens0, 45);
+  EXPECT_DOUBLE_EQ(f.mns0, 21);
+  EXPECT_DOUBLE_EQ(f.mw0, 50);
+  EXPECT_DOUBLE_EQ(f.irisd0, 10);
+}
+
+FeaturePointPositions only(const FeaturePointPositions& face, std::vector<FeaturePointId> ids) {
+  FeaturePointPositions out;
+  for (auto id : ids) out[id] = face.at(id);
+  return out;
+}
+
+TEST(FapuEstimation, EstimatesUnmarkedPointsFromTheirNeighbours) {
+  // A face 1.2 times the prior: the estimates must scale with it.
+  FeaturePointPositions big;
+  for (const auto& [id, p] : generic_face_points()) big[id] = 1.2 * p + Eigen::Vector3d(5, -7, 0);
+  const auto marked = only(
+      big,
+      {{3, 7}, {3, 11}, {3, 8}, {3, 12}, {9, 1}, {9, 2}, {8, 1}, {8, 3}, {8, 4}, {4, 1}, {4, 2}});
+  const FapuEstimate e = estimate_fapu(marked, generic_face_points());
+  const Fapu truth = fapu_from_feature_points(big);
+  EXPECT_NEAR(e.fapu.es0, truth.es0, 1e-9);
+  EXPECT_NEAR(e.fapu.ens0, truth.ens0, 1e-9);
+  EXPECT_NEAR(e.fapu.mns0, truth.mns0, 1e-9);
+  EXPECT_NEAR(e.fapu.mw0, truth.mw0, 1e-9);
+  EXPECT_NEAR(e.fapu.irisd0, truth.irisd0, 1e-9);  // the prior's IRISD0/ES0 ratio
+  EXPECT_NEAR(e.scale_to_prior, 1.2, 1e-9);
+  for (const char* key : {"3.5", "3.6", "9.15", "2.2", "IRISD0"})
+    EXPECT_TRUE(e.notes.count(key)) << key;
+  EXPECT_NE(e.notes.at("9.15").find("nose wings"), std::string::npos);
+  EXPECT_NE(e.notes.at("IRISD0").find("ES0"), std::string::npos);
+  EXPECT_FALSE(e.notes.count("8.3")) << "8.3 carries a marker";
+}
+
+TEST(FapuEstimation, LidMarkersGiveIrisdDirectly) {
+  auto face = generic_face_points();
+  face[{3, 3}].y() -= 2;  // a wider-open eye than the prior's
+  const auto marked = only(face, {{3, 1}, {3, 3}, {3, 5}, {3, 6}, {9, 15}, {2, 2}, {8, 3}, {8, 4}});
+  const FapuEstimate e = estimate_fapu(marked, generic_face_points());
+  EXPECT_NEAR(e.fapu.irisd0, 12, 1e-9);
+  EXPECT_TRUE(e.notes.empty()) << "every FAPU point is marked";
+  EXPECT_THROW(estimate_fapu(only(face, {{3, 1}}), generic_face_points()), InputError);
+}
+
+TEST(ActorCalibration, NeutralFramesGiveFapuShapeAndPose) {
+  const auto actor = test::make_actor(1.04, 0.97, 1.0);
+  const auto pose = test::head_pose(0, 0, 0, {10, -20, 600});
+  std::mt19937 rng(21);
+  std::vector<tracking::TrackedFrame> frames;
+  for (int i = 0; i < 20; ++i) {
+    auto f = test::render(actor, {}, pose, 0.3, rng, i);
+    if (i % 4 == 0) f.markers[5].valid = false;  // lost now and then: still used
+    if (i > 3) f.markers[6].valid = false;       // lost most of the time: left out
+    frames.push_back(std::move(f));
+  }
+  const ActorProfile p = calibrate_actor(frames, actor.camera, test::calibration_options());
+  EXPECT_EQ(p.neutral_frames, 20);
+  EXPECT_EQ(p.markers.size(), actor.markers.size() - 1);
+  EXPECT_FALSE(p.find_marker(actor.markers[6].first));
+  EXPECT_TRUE(p.fapu_notes.count("left out: " + actor.markers[6].first));
+  EXPECT_EQ(p.find_marker(actor.markers[5].first)->frames_seen, 15);
+  EXPECT_TRUE(p.find_marker("tag36h11:0")->rigid);
+
+  // FAPU (mm) within 2 % of the actor's true ones; pupils and nose base were estimated.
+  EXPECT_NEAR(p.fapu.es0, actor.fapu.es0, 0.02 * actor.fapu.es0);
+  EXPECT_NEAR(p.fapu.ens0, actor.fapu.ens0, 0.02 * actor.fapu.ens0);
+  EXPECT_NEAR(p.fapu.mns0, actor.fapu.mns0, 0.03 * actor.fapu.mns0);
+  EXPECT_NEAR(p.fapu.mw0, actor.fapu.mw0, 0.02 * actor.fapu.mw0);
+  EXPECT_NEAR(p.fapu.irisd0, actor.fapu.irisd0, 0.05 * actor.fapu.irisd0);
+  EXPECT_TRUE(p.fapu_notes.count("3.5"));
+  EXPECT_TRUE(p.fapu_notes.count("9.15"));
+  EXPECT_TRUE(p.fapu_notes.count("2.2"));
+  // Image FAPU: the same ratios in pixels (about 1000/600 px per mm).
+  EXPECT_NEAR(p.fapu_image.mw0 / p.fapu_image.es0, actor.fapu.mw0 / actor.fapu.es0, 0.02);
+
+  // The 3D shape matches the actor up to the overall scale the single view cannot know.
+  const auto* lip = p.find_marker("mouth_l");
+  const auto* brow = p.find_marker("brow_r_out");
+  ASSERT_TRUE(lip && lip->position && brow && brow->position);
+  const Eigen::Vector3d measured = *lip->position - *brow->position;
+  const Eigen::Vector3d truth = actor.shape.at({8, 3}) - actor.shape.at({4, 6});
+  EXPECT_LT((measured - truth).norm(), 0.03 * truth.norm());
+  ASSERT_TRUE(p.neutral_pose);
+  EXPECT_NEAR(p.neutral_pose->translation[2], 600, 20);
+  EXPECT_NEAR(p.neutral_pose->rotation[0], M_PI, 0.03);
+}
+
+TEST(ActorCalibration, RefusesTooLittleData) {
+  const auto actor = test::make_actor();
+  EXPECT_THROW(calibrate_actor({}, actor.camera), InputError);
+  std::mt19937 rng(1);
+  auto frame = test::render(actor, {}, test::head_pose(0, 0, 0), 0, rng);
+  for (std::size_t i = 3; i < frame.markers.size(); ++i) frame.markers[i].valid = false;
+  EXPECT_THROW(calibrate_actor({frame}, actor.camera), InputError);
+}
+
+TEST(ActorCalibration, PlacesLayoutMarkersOnThePrior) {
+  const auto& prior = generic_face_points();
+  // A layout in its own frame: origin at the nose tip, 10 % larger than the prior.
+  std::vector<NominalMarker> layout;
+  const Eigen::Vector3d nose = prior.at({9, 3});
+  for (FeaturePointId id : {FeaturePointId{4, 1}, {8, 3}, {2, 1}, {9, 3}})
+    layout.push_back({"m" + id.str(), id, 1.1 * (prior.at(id) - nose)});
+  layout.push_back({"tag", std::nullopt, 1.1 * (Eigen::Vector3d(0, 53, 10) - nose)});
+  const auto placed = place_nominal_markers(layout, prior);
+  EXPECT_TRUE(placed.at("tag").isApprox(Eigen::Vector3d(0, 53, 10), 1e-9));
+  EXPECT_TRUE(placed.at("m8.3").isApprox(prior.at({8, 3}), 1e-9));
+  EXPECT_THROW(place_nominal_markers({layout.back()}, prior), InputError);
+}
+
+}  // namespace
+}  // namespace rostro::calib

@@ -1,0 +1,190 @@
+// The Ceres fit recovers known FAP values and head poses from synthetic projections.
+#include "mapping/fap_solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include "calib/actor_calibration.hpp"
+#include "tests/mapping/synthetic_face.hpp"
+
+namespace rostro::mapping {
+namespace {
+
+using test::head_pose;
+using test::make_actor;
+using test::render;
+
+// Checks every FAP of `truth` against `fit`; tolerance = rel x |value| + the FAP's motion of
+// `mm` millimetres on the synthetic actor (so noise counts alike for FAPs of every unit).
+// Returns the RMS error as a displacement in mm over all of them.
+double expect_faps(const std::map<int, double>& truth, const FapFrame& fit, double rel, double mm,
+                   const std::string& what) {
+  const Fapu fapu = test::make_actor().fapu;
+  double sq = 0;
+  for (const auto& [id, value] : truth) {
+    EXPECT_TRUE(fit.has(id)) << what << ": FAP " << id << " not fitted";
+    const double unit = fapu.unit_size(fap_info(id).unit);
+    const double tolerance = rel * std::abs(value) + mm / unit;
+    EXPECT_NEAR(fit.get(id), value, tolerance)
+        << what << ": FAP " << id << " " << fap_info(id).name;
+    sq += std::pow((fit.get(id) - value) * unit, 2);
+  }
+  return std::sqrt(sq / static_cast<double>(truth.size()));
+}
+
+std::vector<tracking::TrackedFrame> neutral_frames(const test::SyntheticActor& a,
+                                                   const tracking::HeadPose& pose, double noise,
+                                                   std::mt19937& rng) {
+  std::vector<tracking::TrackedFrame> frames;
+  for (int i = 0; i < 15; ++i) frames.push_back(render(a, {}, pose, noise, rng, i));
+  return frames;
+}
+
+TEST(FapSolver, ExactProfileStillHeadNoiseFree) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  FapSolver solver(test::exact_profile(actor, neutral));
+  std::mt19937 rng(3);
+  const auto truth = test::test_expression();
+  const FitResult r = solver.fit(render(actor, truth, neutral, 0, rng));
+  ASSERT_TRUE(r.ok);
+  EXPECT_LT(r.rms_px, 0.05);
+  // The only bias is the weak pull toward neutral on a first frame (about 0.25 %).
+  EXPECT_LT(expect_faps(truth, r.faps, 0.04, 0.01, "exact still"), 0.03);
+  EXPECT_NEAR(r.faps.get(49), 0.0, 200.0);  // head yaw, AU (200 AU = 0.11 degree)
+}
+
+TEST(FapSolver, CalibratedProfileStillHeadWithNoise) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  std::mt19937 rng(5);
+  const auto profile = calib::calibrate_actor(neutral_frames(actor, neutral, 0.3, rng),
+                                              actor.camera, test::calibration_options());
+  FapSolver solver(profile);
+  for (double scale : {1.0, -0.5, 0.3}) {
+    const auto truth = test::test_expression(scale);
+    const FitResult r = solver.fit(render(actor, truth, neutral, 0.3, rng));
+    ASSERT_TRUE(r.ok);
+    EXPECT_LT(r.rms_px, 1.0);
+    // 0.3 px of noise is 0.18 mm on the face at 600 mm: each FAP within 5 % plus 4 sigma of
+    // that, and the RMS over all FAPs within 0.3 mm.
+    const std::string what = "calibrated still, scale " + std::to_string(scale);
+    EXPECT_LT(expect_faps(truth, r.faps, 0.05, 0.7, what), 0.3) << what;
+  }
+}
+
+TEST(FapSolver, RecoversPoseAndFapsUnderYawAndPitch) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  std::mt19937 rng(7);
+  const auto profile = calib::calibrate_actor(neutral_frames(actor, neutral, 0.3, rng),
+                                              actor.camera, test::calibration_options());
+  FapSolver solver(profile);
+  const auto truth = test::test_expression(0.8);
+  for (double yaw : {-25.0, 0.0, 25.0})
+    for (double pitch : {-15.0, 15.0}) {
+      solver.reset();  // cold start from the neutral pose: the hardest case
+      const auto pose = head_pose(yaw, pitch, 3.0, {-30, 15, 650});
+      const FitResult r = solver.fit(render(actor, truth, pose, 0.3, rng));
+      const std::string what = "yaw " + std::to_string(yaw) + " pitch " + std::to_string(pitch);
+      ASSERT_TRUE(r.ok) << what;
+      EXPECT_NEAR(r.faps.get(49) * kAngleUnitRad, test::deg(yaw), test::deg(1.5)) << what;
+      EXPECT_NEAR(r.faps.get(48) * kAngleUnitRad, test::deg(pitch), test::deg(1.5)) << what;
+      EXPECT_NEAR(r.faps.get(50) * kAngleUnitRad, test::deg(3.0), test::deg(1.5)) << what;
+      EXPECT_NEAR(r.pose.translation[2], 650.0, 30.0) << what;
+      // Looser: the 3D shape's depths come from the prior, so turned heads cost accuracy.
+      EXPECT_LT(expect_faps(truth, r.faps, 0.10, 1.0, what), 0.35) << what;
+    }
+}
+
+TEST(FapSolver, WarmStartedSequenceTracksAMovingHead) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  std::mt19937 rng(11);
+  FapSolver solver(test::exact_profile(actor, neutral));
+  for (int i = 0; i < 50; ++i) {
+    const double t = i / 49.0;
+    const auto truth = test::test_expression(std::sin(t * M_PI));
+    const auto& clamped = truth;
+    const auto pose = head_pose(25 * std::sin(2 * M_PI * t), 15 * std::sin(4 * M_PI * t), 0);
+    const FitResult r = solver.fit(render(actor, clamped, pose, 0.2, rng, i));
+    ASSERT_TRUE(r.ok) << "frame " << i;
+    EXPECT_LT(r.rms_px, 0.6) << "frame " << i;
+    // 0.2 px of noise is 0.12 mm on the face: RMS over all FAPs within twice that.
+    EXPECT_LT(expect_faps(clamped, r.faps, 0.05, 0.5, "frame " + std::to_string(i)), 0.25);
+  }
+}
+
+TEST(FapSolver, InvalidMarkersAreIgnored) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  FapSolver solver(test::exact_profile(actor, neutral));
+  std::mt19937 rng(13);
+  auto truth = test::test_expression();
+  auto frame = render(actor, truth, neutral, 0, rng);
+  for (auto& m : frame.markers)
+    if (m.marker == "brow_l_mid" || m.marker == "lip_bot_l") {
+      m.valid = false;
+      m.position = {-5000, 1e6};  // garbage that must not matter
+    }
+  frame.markers.push_back({"not_in_profile", {5, 1}, {100, 100}, true, 1});  // unknown: ignored
+  const FitResult r = solver.fit(frame);
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.markers_used, 32);
+  EXPECT_FALSE(r.faps.has(33)) << "raise_l_m_eyebrow has no valid marker";
+  EXPECT_FALSE(r.faps.has(57)) << "raise_b_lip_lm_o has no valid marker";
+  truth.erase(33);
+  truth.erase(57);
+  EXPECT_LT(expect_faps(truth, r.faps, 0.04, 0.01, "with invalid markers"), 0.03);
+}
+
+TEST(FapSolver, TooFewMarkersGiveNoFit) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  FapSolver solver(test::exact_profile(actor, neutral));
+  std::mt19937 rng(17);
+  auto frame = render(actor, {}, neutral, 0, rng);
+  for (std::size_t i = 3; i < frame.markers.size(); ++i) frame.markers[i].valid = false;
+  const FitResult r = solver.fit(frame);
+  EXPECT_FALSE(r.ok);
+  EXPECT_TRUE(r.faps.mask.none());
+}
+
+TEST(FapSolver, UnidirectionalFapsStayNonNegative) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  FapSolver solver(test::exact_profile(actor, neutral));
+  std::mt19937 rng(19);
+  // The chin pushed up past neutral: open_jaw cannot go below 0.
+  const FitResult r = solver.fit(render(actor, {{3, -200}}, neutral, 0, rng));
+  ASSERT_TRUE(r.ok);
+  EXPECT_GE(r.faps.get(3), 0.0);
+  EXPECT_LT(r.faps.get(3), 1.0);
+}
+
+TEST(FapSolver, GainsAndRangesFromTheProfileAreApplied) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  auto profile = test::exact_profile(actor, neutral);
+  profile.fap_gains[31] = {2.0, std::nullopt, std::nullopt};
+  profile.fap_gains[53] = {1.0, std::nullopt, 100.0};
+  FapSolver solver(profile);
+  std::mt19937 rng(23);
+  const FitResult r = solver.fit(render(actor, {{31, 50}, {53, 140}}, neutral, 0, rng));
+  ASSERT_TRUE(r.ok);
+  EXPECT_NEAR(r.faps.get(31), 100.0, 1.0);
+  EXPECT_NEAR(r.faps.get(53), 100.0, 1e-9);
+}
+
+TEST(HeadRotationFaps, SignsFollowTheFapTable) {
+  const auto neutral = head_pose(0, 0, 0);
+  const auto yaw = head_rotation_faps(neutral, head_pose(10, 0, 0));
+  EXPECT_NEAR(yaw[1] * kAngleUnitRad, test::deg(10), 1e-9);
+  EXPECT_NEAR(yaw[0], 0, 1e-6);
+  const auto pitch = head_rotation_faps(neutral, head_pose(0, -7, 0));
+  EXPECT_NEAR(pitch[0] * kAngleUnitRad, test::deg(-7), 1e-9);
+  const auto roll = head_rotation_faps(neutral, head_pose(0, 0, 4));
+  EXPECT_NEAR(roll[2] * kAngleUnitRad, test::deg(4), 1e-9);
+}
+
+}  // namespace
+}  // namespace rostro::mapping
