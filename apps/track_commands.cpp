@@ -1,0 +1,172 @@
+// `rostro track`: a video (or camera, or image folder) in, the tracks CSV out, and an
+// optional overlay video showing each marker's id and state. Wiring only: capture gives
+// frames, tracking follows the markers.
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <opencv2/videoio.hpp>
+#include <optional>
+#include <string>
+
+#include "apps/commands.hpp"
+#include "apps/progress.hpp"
+#include "capture/open_source.hpp"
+#include "facecore/error.hpp"
+#include "tracking/identify.hpp"
+#include "tracking/layout.hpp"
+#include "tracking/marker_tracker.hpp"
+#include "tracking/overlay.hpp"
+#include "tracking/tracks_csv.hpp"
+
+namespace rostro::app {
+namespace {
+
+struct TrackArgs {
+  std::string source;
+  std::string layout;
+  std::string output;
+  std::string overlay;
+  std::string start;  // starting positions (tracks CSV) instead of identification
+  double fps = 0;     // image folders
+  long max_frames = 0;
+  tracking::TrackerOptions options;
+  std::string polarity;  // overrides the layout's
+};
+
+void run_track(const TrackArgs& args) {
+  tracking::MarkerLayout layout = tracking::load_layout(
+      args.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(args.layout));
+  if (args.polarity == "dark") layout.polarity = tracking::DotPolarity::Dark;
+  if (args.polarity == "bright") layout.polarity = tracking::DotPolarity::Bright;
+
+  capture::SourceOptions source_options;
+  source_options.fps = args.fps;
+  auto source = capture::open_frame_source(args.source, source_options);
+
+  tracking::MarkerTracker tracker(layout, args.options);
+  if (!args.start.empty())
+    tracker.set_start_positions(tracking::read_start_positions(args.start, layout));
+
+  tracking::TracksWriter writer(args.output);
+  // The overlay is written beside its destination under a temporary name (keeping the
+  // extension, which picks the container) and renamed at the end, like every output.
+  cv::VideoWriter overlay;
+  std::filesystem::path overlay_temp;
+  struct RemoveTemp {
+    std::filesystem::path* path;
+    ~RemoveTemp() {
+      std::error_code ignored;
+      if (!path->empty()) std::filesystem::remove(*path, ignored);
+    }
+  } remove_temp{&overlay_temp};
+  if (!args.overlay.empty()) {
+    const std::filesystem::path dest(args.overlay);
+    overlay_temp = dest;
+    overlay_temp.replace_filename(dest.stem().string() + ".tmp-" + std::to_string(::getpid()) +
+                                  dest.extension().string());
+    const double fps = source->nominal_fps() > 0 ? source->nominal_fps() : 25;
+    if (!overlay.open(overlay_temp.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
+                      source->frame_size()))
+      throw InputError(args.overlay + ": cannot write an overlay video (mp4v codec)");
+  }
+
+  long total = source->frame_count() > 0 ? static_cast<long>(source->frame_count()) : 0;
+  if (args.max_frames > 0 && (total == 0 || args.max_frames < total)) total = args.max_frames;
+  Progress progress("track", total);
+  long frame = 0, never_started = 0;
+  long valid_sum = 0, marker_sum = 0;
+  while (args.max_frames <= 0 || frame < args.max_frames) {
+    auto f = source->next();
+    if (!f) break;
+    const tracking::TrackedFrame tracked = tracker.track(f->image, frame, f->timestamp_s);
+    writer.write(tracked);
+    if (!tracker.started()) ++never_started;
+    for (const auto& m : tracked.markers) valid_sum += m.valid, ++marker_sum;
+    if (overlay.isOpened()) {
+      cv::Mat image = f->image.clone();
+      tracking::draw_overlay(image, tracker.states(), frame);
+      overlay.write(image);
+    }
+    ++frame;
+    progress.update(frame);
+  }
+  progress.finish();
+  if (frame == 0) throw InputError(args.source + ": no frames to track");
+  writer.finish();
+  if (overlay.isOpened()) {
+    overlay.release();
+    std::error_code ec;
+    std::filesystem::rename(overlay_temp, args.overlay, ec);
+    if (ec)
+      throw InputError(args.overlay + ": cannot move the overlay into place: " + ec.message());
+    overlay_temp.clear();
+  }
+  const auto stats = source->stats();
+  std::printf(
+      "%ld frames tracked, %ld markers, %.1f%% of marker positions valid, %ld dropped\n", frame,
+      static_cast<long>(layout.markers.size()),
+      marker_sum ? 100.0 * static_cast<double>(valid_sum) / static_cast<double>(marker_sum) : 0.0,
+      static_cast<long>(stats.dropped));
+  if (never_started == frame)
+    std::fprintf(stderr,
+                 "rostro: warning: the markers were never identified (fewer than %d found); "
+                 "check --layout, the dot size options or give --start\n",
+                 args.options.min_identified);
+}
+
+}  // namespace
+
+void add_track_commands(CLI::App& app) {
+  static TrackArgs args;
+  CLI::App* cmd = app.add_subcommand(
+      "track",
+      "Track the layout's dot markers and AprilTags through a video and write the tracks CSV");
+  cmd->add_option("SOURCE", args.source, "Video file, image folder, /dev/videoN or libcamera:N")
+      ->required();
+  cmd->add_option("--layout", args.layout,
+                  "Marker layout JSON (default: data/layouts/default.json)");
+  cmd->add_option("-o,--output", args.output,
+                  "Tracks CSV to write (frame,time_s,marker,fp,x,y,valid,quality)")
+      ->required();
+  cmd->add_option("--overlay", args.overlay,
+                  "Also write a video with each marker's id and state (.mp4)");
+  cmd->add_option(
+      "--start", args.start,
+      "Starting positions (a tracks CSV; its first frame) instead of automatic identification");
+  cmd->add_option("--fps", args.fps, "Frame rate of an image folder")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-frames", args.max_frames, "Stop after this many frames (0: all)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--dot-min", args.options.dots.min_diameter_px, "Smallest dot diameter, pixels")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--dot-max", args.options.dots.max_diameter_px, "Largest dot diameter, pixels")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--dot-contrast", args.options.dots.min_contrast,
+                  "Least grey-level contrast of a dot against the skin around it")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--polarity", args.polarity,
+                  "Dots darker or brighter than the skin (default: the layout's)")
+      ->check(CLI::IsMember({"dark", "bright"}));
+  cmd->add_option("--tag-decimation", args.options.tags.decimation,
+                  "AprilTag quad decimation on the first frame (1: small tags, slower)")
+      ->check(CLI::Range(1.0, 8.0));
+  cmd->add_option("--tag-threads", args.options.tags.threads, "AprilTag detector threads")
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--max-fb-error", args.options.max_fb_error,
+                  "Largest forward-backward LK error (pixels) before a dot is flagged invalid")
+      ->check(CLI::PositiveNumber);
+  cmd->footer(
+      "The take should start with the face frontal and every marker visible: the markers are\n"
+      "identified on the first frames with no clicks (tags first, then the dots by the layout's\n"
+      "geometry). Markers that are hidden or fail the checks are written with valid=0 and come\n"
+      "back with their own identity when they reappear.\n\n"
+      "Example:\n"
+      "  rostro track take.mp4 --layout data/layouts/default.json -o take.tracks.csv --overlay "
+      "take.overlay.mp4");
+  cmd->callback([] { run_track(args); });
+}
+
+}  // namespace rostro::app

@@ -1,0 +1,223 @@
+// The tracker on synthetic takes with exact truth: accuracy, identification, occlusions,
+// identities, and AprilTag corners drawn from their bit patterns.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+#include "facecore/error.hpp"
+#include "tests/tracking/synthetic_scene.hpp"
+#include "tracking/apriltag_detector.hpp"
+#include "tracking/identify.hpp"
+#include "tracking/layout.hpp"
+#include "tracking/marker_tracker.hpp"
+#include "tracking/tracks_csv.hpp"
+
+namespace fs = std::filesystem;
+using namespace rostro::tracking;
+using rostro::tracking::testing::Occluder;
+using rostro::tracking::testing::SceneOptions;
+using rostro::tracking::testing::SyntheticScene;
+using rostro::tracking::testing::Truth;
+
+namespace {
+
+MarkerLayout default_layout() {
+  return load_layout(fs::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+struct RunStats {
+  std::vector<double> errors;  // valid, fully visible dots
+  long visible = 0, valid_visible = 0;
+  long guessed = 0;  // valid while hidden under an occluder
+  long off = 0;      // valid while partly covered, but more than 1 px from the truth
+  long swaps = 0;    // valid but nearer another marker's truth than its own
+  long late = 0;     // visible for 3+ frames after an occlusion, still invalid
+};
+
+TrackerOptions options_for(const SceneOptions& scene) {
+  TrackerOptions o;
+  o.dots.min_diameter_px = std::max(3.0, scene.dot_diameter_px * 0.5);
+  o.dots.max_diameter_px = scene.dot_diameter_px * 2;
+  o.tags.decimation = 1;
+  return o;
+}
+
+RunStats run(const MarkerLayout& layout, const SceneOptions& scene_options, int frames,
+             MarkerTracker* given = nullptr) {
+  SyntheticScene scene(layout, scene_options);
+  MarkerTracker own(layout, options_for(scene_options));
+  MarkerTracker& tracker = given ? *given : own;
+  RunStats st;
+  std::map<std::string, int> visible_run;  // consecutive visible frames per marker
+  for (int k = 0; k < frames; ++k) {
+    std::map<std::string, Truth> truth;
+    cv::Mat image = scene.render(k, truth);
+    TrackedFrame tf = tracker.track(image, k, k / 30.0);
+    EXPECT_EQ(tf.markers.size(), layout.markers.size());
+    for (const MarkerObservation& m : tf.markers) {
+      auto it = truth.find(m.marker);
+      if (it == truth.end()) continue;
+      const Truth& tr = it->second;
+      int& run_length = visible_run[m.marker];
+      run_length = tr.visible ? run_length + 1 : 0;
+      const bool is_tag = layout.find(m.marker)->is_tag();
+      if (m.valid && tr.hidden) {
+        ++st.guessed;
+        ADD_FAILURE() << "frame " << k << ": " << m.marker << " valid while hidden";
+      }
+      if (m.valid && !tr.visible && !tr.hidden && cv::norm(m.position - tr.position) > 1) {
+        ++st.off;
+        ADD_FAILURE() << "frame " << k << ": " << m.marker << " partly covered and "
+                      << cv::norm(m.position - tr.position) << " px off";
+      }
+      if (m.valid) {
+        const double own_error = cv::norm(m.position - tr.position);
+        for (const auto& [other, otr] : truth)
+          if (other != m.marker && cv::norm(m.position - otr.position) < own_error) {
+            ++st.swaps;
+            ADD_FAILURE() << "frame " << k << ": " << m.marker << " sits on " << other;
+            break;
+          }
+      }
+      if (!tr.visible || is_tag) continue;
+      ++st.visible;
+      if (m.valid) {
+        ++st.valid_visible;
+        st.errors.push_back(cv::norm(m.position - tr.position));
+      } else if (run_length > 3 && k > 3) {
+        ++st.late;
+        ADD_FAILURE() << "frame " << k << ": " << m.marker << " visible for " << run_length
+                      << " frames but not re-acquired";
+      }
+    }
+  }
+  return st;
+}
+
+}  // namespace
+
+class DotAccuracy : public ::testing::TestWithParam<double> {};
+
+TEST_P(DotAccuracy, MedianAndTailErrorWithinBudget) {
+  MarkerLayout layout = default_layout();
+  SceneOptions o;
+  o.dot_diameter_px = GetParam();
+  RunStats st = run(layout, o, 60);
+  ASSERT_GT(st.visible, 0);
+  EXPECT_GE(static_cast<double>(st.valid_visible), 0.98 * static_cast<double>(st.visible));
+  const double median = percentile(st.errors, 0.5), p95 = percentile(st.errors, 0.95);
+  RecordProperty("median_px", std::to_string(median));
+  RecordProperty("p95_px", std::to_string(p95));
+  std::printf("dots %.0f px: median %.3f px, 95th percentile %.3f px, %ld/%ld valid\n", GetParam(),
+              median, p95, st.valid_visible, st.visible);
+  EXPECT_LE(median, 0.2);
+  EXPECT_LE(p95, 0.5);
+  EXPECT_EQ(st.swaps, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Diameters, DotAccuracy, ::testing::Values(6.0, 8.0, 12.0));
+
+TEST(Tracker, OcclusionsAreFlaggedAndMarkersComeBack) {
+  MarkerLayout layout = default_layout();
+  SceneOptions o;
+  o.noise_sigma = 3;
+  o.blur_sigma = 1.0;
+  // A hand over the mouth, then one over the left brow and eye, then a bar across the face.
+  o.occluders = {
+      {{330, 300, 90, 60}, 10, 19}, {{340, 180, 70, 60}, 25, 31}, {{150, 260, 340, 25}, 38, 40}};
+  RunStats st = run(layout, o, 50);
+  EXPECT_EQ(st.guessed, 0);
+  EXPECT_EQ(st.off, 0);
+  EXPECT_EQ(st.late, 0);
+  EXPECT_EQ(st.swaps, 0);
+  EXPECT_LE(percentile(st.errors, 0.5), 0.2);
+}
+
+TEST(Tracker, IdentifiesWithoutTagsAndWhenTurned) {
+  MarkerLayout layout = default_layout();
+  for (bool tags : {true, false})
+    for (double angle : {-12.0, 0.0, 15.0}) {
+      SceneOptions o;
+      o.draw_tags = tags;
+      o.angle_deg = angle;
+      SyntheticScene scene(layout, o);
+      std::map<std::string, Truth> truth;
+      cv::Mat image = scene.render(0, truth);
+      MarkerTracker tracker(layout, options_for(o));
+      TrackedFrame tf = tracker.track(image, 0, 0);
+      for (const MarkerObservation& m : tf.markers) {
+        if (!truth.count(m.marker)) continue;
+        EXPECT_TRUE(m.valid) << m.marker << " tags " << tags << " angle " << angle;
+        if (m.valid) {
+          EXPECT_LT(cv::norm(m.position - truth[m.marker].position), 1.0) << m.marker;
+        }
+      }
+    }
+}
+
+TEST(Tracker, StartsFromAFileOfPositions) {
+  MarkerLayout layout = default_layout();
+  SceneOptions o;
+  SyntheticScene scene(layout, o);
+  std::map<std::string, Truth> truth;
+  scene.render(0, truth);
+  // Rough clicks (1.5 px off) for every dot, in the tracks CSV format.
+  TrackedFrame start;
+  int n = 0;
+  for (const MarkerSpec& m : layout.markers) {
+    if (m.is_tag()) continue;
+    cv::Point2d jitter((n % 3 - 1) * 1.5, (n % 2) * 1.5 - 0.75);
+    start.markers.push_back({m.id, m.feature_point, truth[m.id].position + jitter, true, 1});
+    ++n;
+  }
+  fs::path p = fs::temp_directory_path() / "rostro_start_positions.csv";
+  write_tracks(p, {start});
+  MarkerTracker tracker(layout, options_for(o));
+  tracker.set_start_positions(read_start_positions(p, layout));
+  RunStats st = run(layout, o, 10, &tracker);
+  EXPECT_GE(static_cast<double>(st.valid_visible), 0.98 * static_cast<double>(st.visible));
+  EXPECT_LE(percentile(st.errors, 0.5), 0.2);
+}
+
+TEST(AprilTagSynthetic, CornersFromBitPatternsInLibapriltagOrder) {
+  MarkerLayout layout = default_layout();
+  SceneOptions o;
+  o.angle_deg = 20;
+  SyntheticScene scene(layout, o);
+  std::map<std::string, Truth> truth;
+  cv::Mat image = scene.render(3, truth);
+  AprilTagOptions ao;
+  ao.decimation = 1;
+  AprilTagDetector detector(ao);
+  auto found = detector.detect(image);
+  int matched = 0;
+  for (const MarkerSpec& m : layout.markers) {
+    if (!m.is_tag()) continue;
+    for (const TagDetection& t : found) {
+      if (t.marker_id() != m.id) continue;
+      ++matched;
+      for (int k = 0; k < 4; ++k)
+        EXPECT_LT(cv::norm(t.corners[k] - truth[m.id].corners[k]), 0.5) << m.id << " corner " << k;
+    }
+  }
+  EXPECT_EQ(matched, layout.tag_count());
+}
+
+TEST(AprilTagImage, BitPatternHasTheFamilyWidth) {
+  cv::Mat tag = apriltag_image("tag36h11", 5);
+  EXPECT_EQ(tag.cols, 10);
+  EXPECT_EQ(apriltag_black_width("tag36h11"), 8);
+  EXPECT_EQ(tag.at<uint8_t>(0, 0), 255);  // white border
+  EXPECT_EQ(tag.at<uint8_t>(1, 1), 0);    // black border
+  EXPECT_THROW(apriltag_image("tag36h11", 100000), rostro::InputError);
+  EXPECT_THROW(apriltag_image("tag99", 0), rostro::InputError);
+}

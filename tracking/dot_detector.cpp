@@ -1,0 +1,166 @@
+#include "tracking/dot_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+namespace rostro::tracking {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Contrast of each pixel against `background`, positive for the expected polarity.
+inline float contrast_of(DotPolarity polarity, float background, float value) {
+  return polarity == DotPolarity::Dark ? background - value : value - background;
+}
+
+// Median grey level of the window's border: the background around a dot in the middle.
+float border_median(const cv::Mat& patch) {
+  std::vector<uint8_t> v;
+  v.reserve(static_cast<size_t>(2 * (patch.cols + patch.rows)));
+  for (int x = 0; x < patch.cols; ++x) {
+    v.push_back(patch.at<uint8_t>(0, x));
+    v.push_back(patch.at<uint8_t>(patch.rows - 1, x));
+  }
+  for (int y = 1; y + 1 < patch.rows; ++y) {
+    v.push_back(patch.at<uint8_t>(y, 0));
+    v.push_back(patch.at<uint8_t>(y, patch.cols - 1));
+  }
+  auto mid = v.begin() + static_cast<long>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+}  // namespace
+
+std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double radius,
+                              const DotOptions& options) {
+  CV_Assert(gray.type() == CV_8UC1);
+  const double max_r = options.max_diameter_px / 2;
+  const int half = static_cast<int>(std::ceil(radius + max_r + 2));
+  const cv::Rect image_rect(0, 0, gray.cols, gray.rows);
+  const cv::Rect window =
+      cv::Rect(static_cast<int>(std::lround(guess.x)) - half,
+               static_cast<int>(std::lround(guess.y)) - half, 2 * half + 1, 2 * half + 1) &
+      image_rect;
+  if (window.width < 5 || window.height < 5) return std::nullopt;
+  const cv::Mat patch = gray(window);
+  const float background = border_median(patch);
+
+  // Contrast map of the window.
+  cv::Mat c(patch.size(), CV_32F);
+  for (int y = 0; y < patch.rows; ++y) {
+    const uint8_t* in = patch.ptr<uint8_t>(y);
+    float* out = c.ptr<float>(y);
+    for (int x = 0; x < patch.cols; ++x) out[x] = contrast_of(options.polarity, background, in[x]);
+  }
+  cv::Mat smooth;
+  cv::blur(c, smooth, {3, 3});
+
+  // The strongest point within `radius` of the guess is the dot's core.
+  const cv::Point2d g(guess.x - window.x, guess.y - window.y);
+  cv::Point peak(-1, -1);
+  float peak_value = -1e9f;
+  for (int y = 0; y < smooth.rows; ++y)
+    for (int x = 0; x < smooth.cols; ++x) {
+      const double dx = x - g.x, dy = y - g.y;
+      if (dx * dx + dy * dy > radius * radius) continue;
+      if (smooth.at<float>(y, x) > peak_value) peak_value = smooth.at<float>(y, x), peak = {x, y};
+    }
+  if (peak.x < 0 || peak_value < options.min_contrast) return std::nullopt;
+
+  // Its extent at half contrast: the pixels connected to the peak above half the peak.
+  cv::Mat above = c >= peak_value / 2;
+  cv::Mat region = cv::Mat::zeros(patch.rows + 2, patch.cols + 2, CV_8U);
+  cv::floodFill(above, region, peak, 255, nullptr, 0, 0, 4 | cv::FLOODFILL_MASK_ONLY | (255 << 8));
+  region = region(cv::Rect(1, 1, patch.cols, patch.rows));
+  const double area = cv::countNonZero(region);
+  if (area <= 0) return std::nullopt;
+  cv::Moments mo = cv::moments(region, true);
+  cv::Point2d centre(mo.m10 / mo.m00, mo.m01 / mo.m00);
+  double far2 = 0;
+  bool touches_edge = false;
+  for (int y = 0; y < region.rows; ++y) {
+    const uint8_t* r = region.ptr<uint8_t>(y);
+    for (int x = 0; x < region.cols; ++x) {
+      if (!r[x]) continue;
+      if (x == 0 || y == 0 || x == region.cols - 1 || y == region.rows - 1) touches_edge = true;
+      far2 = std::max(far2, (x - centre.x) * (x - centre.x) + (y - centre.y) * (y - centre.y));
+    }
+  }
+  const double diameter = 2 * std::sqrt(area / kPi);
+  if (touches_edge || diameter < options.min_diameter_px || diameter > options.max_diameter_px)
+    return std::nullopt;
+  const double enclosing = kPi * (std::sqrt(far2) + 0.5) * (std::sqrt(far2) + 0.5);
+  if (area / enclosing < options.min_roundness) return std::nullopt;
+
+  // Contrast-weighted centroid over a disc just wider than the dot, re-centred twice. The
+  // small floor keeps background texture inside the disc from pulling the centre.
+  const float floor = 0.15f * peak_value;
+  const double disc = diameter / 2 + 2.0;
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    double sw = 0, sx = 0, sy = 0;
+    const int x0 = std::max(0, static_cast<int>(centre.x - disc));
+    const int x1 = std::min(c.cols - 1, static_cast<int>(centre.x + disc + 1));
+    const int y0 = std::max(0, static_cast<int>(centre.y - disc));
+    const int y1 = std::min(c.rows - 1, static_cast<int>(centre.y + disc + 1));
+    for (int y = y0; y <= y1; ++y) {
+      const float* row = c.ptr<float>(y);
+      for (int x = x0; x <= x1; ++x) {
+        const double dx = x - centre.x, dy = y - centre.y;
+        if (dx * dx + dy * dy > disc * disc) continue;
+        const double w = std::clamp(row[x] - floor, 0.0f, peak_value - floor);
+        sw += w, sx += w * x, sy += w * y;
+      }
+    }
+    if (sw <= 0) return std::nullopt;
+    centre = {sx / sw, sy / sw};
+  }
+  return Dot{{centre.x + window.x, centre.y + window.y}, diameter, peak_value};
+}
+
+std::vector<Dot> detect_dots(const cv::Mat& gray, const DotOptions& options, cv::Rect roi) {
+  CV_Assert(gray.type() == CV_8UC1);
+  const cv::Rect image_rect(0, 0, gray.cols, gray.rows);
+  roi = roi.area() > 0 ? roi & image_rect : image_rect;
+  if (roi.width < 5 || roi.height < 5) return {};
+  const cv::Mat patch = gray(roi);
+
+  // Local background: a box mean three dot-widths wide.
+  int box = static_cast<int>(std::ceil(3 * options.max_diameter_px)) | 1;
+  cv::Mat background;
+  cv::blur(patch, background, {box, box}, {-1, -1}, cv::BORDER_REPLICATE);
+  cv::Mat contrast;
+  if (options.polarity == DotPolarity::Dark)
+    cv::subtract(background, patch, contrast);  // saturates at 0
+  else
+    cv::subtract(patch, background, contrast);
+  cv::Mat mask = contrast >= options.min_contrast / 2;
+
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  const double min_area = 0.4 * kPi * options.min_diameter_px * options.min_diameter_px / 4;
+  const double max_area = 1.5 * kPi * options.max_diameter_px * options.max_diameter_px / 4;
+
+  std::vector<Dot> dots;
+  for (int i = 1; i < n; ++i) {
+    const int area = stats.at<int>(i, cv::CC_STAT_AREA);
+    const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+    if (area < min_area || area > max_area) continue;
+    if (std::max(w, h) > 2.5 * std::min(w, h)) continue;
+    if (area < 0.4 * w * h) continue;
+    const cv::Point2d at(centroids.at<double>(i, 0) + roi.x, centroids.at<double>(i, 1) + roi.y);
+    auto dot = refine_dot(gray, at, std::max(2.0, std::max(w, h) / 2.0), options);
+    if (!dot) continue;
+    bool duplicate = false;
+    for (const Dot& d : dots)
+      if (cv::norm(d.center - dot->center) < options.min_diameter_px / 2) duplicate = true;
+    if (!duplicate) dots.push_back(*dot);
+  }
+  std::sort(dots.begin(), dots.end(),
+            [](const Dot& a, const Dot& b) { return a.contrast > b.contrast; });
+  return dots;
+}
+
+}  // namespace rostro::tracking

@@ -1,0 +1,43 @@
+#pragma once
+// Round dot markers: finding them in a whole image or a window, and measuring one dot's
+// centre to a fraction of a pixel.
+//
+// Finding: the local background (a box mean a few dot-widths wide) minus the image (dark
+// dots) or the reverse (bright dots) is thresholded; connected blobs of a plausible area and
+// roundness are kept. Centre: the contrast-weighted centroid over a disc around the blob,
+// re-centred twice. For an anti-aliased disc on a flat background the weights are the
+// pixel coverage, whose centroid is the disc's centre, so the estimate has no bias from
+// the pixel grid.
+
+#include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
+
+#include "tracking/layout.hpp"
+
+namespace rostro::tracking {
+
+struct DotOptions {
+  DotPolarity polarity = DotPolarity::Dark;
+  double min_diameter_px = 4;
+  double max_diameter_px = 30;
+  double min_contrast = 20;     // grey levels between a dot's core and its surroundings
+  double min_roundness = 0.55;  // blob area / area of the enclosing circle
+};
+
+struct Dot {
+  cv::Point2d center;
+  double diameter = 0;  // equivalent-area diameter, pixels
+  double contrast = 0;  // grey levels, positive for the expected polarity
+};
+
+// Every dot in `gray` (8-bit, one channel) within `roi` (all of it when empty), in
+// full-image pixels, strongest first.
+std::vector<Dot> detect_dots(const cv::Mat& gray, const DotOptions& options, cv::Rect roi = {});
+
+// The dot nearest `guess` measured precisely, searched within `radius` pixels of it; nullopt
+// when there is no dot there that passes the options' checks.
+std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double radius,
+                              const DotOptions& options);
+
+}  // namespace rostro::tracking

@@ -1,0 +1,177 @@
+#include "tracking/identify.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <opencv2/calib3d.hpp>
+
+#include "facecore/error.hpp"
+#include "tracking/tracks_csv.hpp"
+
+namespace rostro::tracking {
+namespace {
+
+cv::Matx23d similarity_from_clouds(const std::vector<cv::Point2d>& from,
+                                   const std::vector<cv::Point2d>& to) {
+  auto centre_and_spread = [](const std::vector<cv::Point2d>& pts) {
+    cv::Point2d c(0, 0);
+    for (const auto& p : pts) c += p;
+    c *= 1.0 / static_cast<double>(pts.size());
+    double s = 0;
+    for (const auto& p : pts) s += (p - c).dot(p - c);
+    return std::pair{c, std::sqrt(s / static_cast<double>(pts.size()))};
+  };
+  auto [cf, sf] = centre_and_spread(from);
+  auto [ct, st] = centre_and_spread(to);
+  const double k = sf > 0 ? st / sf : 1;
+  return {k, 0, ct.x - k * cf.x, 0, k, ct.y - k * cf.y};
+}
+
+cv::Point2d apply(const cv::Matx23d& m, cv::Point2d p) {
+  return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
+}
+
+}  // namespace
+
+cv::Point2d Identification::project(cv::Point2d frontal_mm) const {
+  return apply(layout_to_image, frontal_mm);
+}
+
+Identification identify_markers(const MarkerLayout& layout, const std::vector<Dot>& dots,
+                                const std::vector<TagDetection>& tags, double gate) {
+  Identification id;
+
+  // Tags identify themselves; their corners give the first layout -> image mapping.
+  std::vector<cv::Point2d> from, to;
+  for (const MarkerSpec& m : layout.markers) {
+    if (!m.is_tag()) continue;
+    for (const TagDetection& t : tags) {
+      if (t.family != m.family || t.id != m.tag_id) continue;
+      id.tags[m.id] = t;
+      auto corners = m.tag_corners_frontal();
+      for (int k = 0; k < 4; ++k) from.push_back(corners[k]), to.push_back(t.corners[k]);
+      break;
+    }
+  }
+  std::vector<const MarkerSpec*> layout_dots;
+  std::vector<cv::Point2d> layout_points;
+  for (const MarkerSpec& m : layout.markers)
+    if (!m.is_tag()) layout_dots.push_back(&m), layout_points.push_back(m.frontal());
+
+  if (layout_dots.empty() && from.empty()) return id;
+
+  // Each layout dot may take a detection within `gate` of its nearest neighbour's distance.
+  std::vector<double> spacing(layout_dots.size(), std::numeric_limits<double>::max());
+  for (size_t i = 0; i < layout_points.size(); ++i)
+    for (size_t j = 0; j < layout_points.size(); ++j)
+      if (i != j) spacing[i] = std::min(spacing[i], cv::norm(layout_points[i] - layout_points[j]));
+  const double closest = spacing.empty() ? 1.0 : *std::min_element(spacing.begin(), spacing.end());
+
+  struct Attempt {
+    cv::Matx23d mapping;
+    std::vector<int> match;
+    int matched = 0;
+    double residual = 0;
+  };
+  // Match by proximity, refit an affine from the matches (and tag corners), a few rounds.
+  auto settle = [&](cv::Matx23d mapping) {
+    Attempt at;
+    at.mapping = mapping;
+    at.match.assign(layout_dots.size(), -1);
+    for (int round = 0; round < 5; ++round) {
+      const double scale = std::sqrt(
+          std::abs(at.mapping(0, 0) * at.mapping(1, 1) - at.mapping(0, 1) * at.mapping(1, 0)));
+      struct Pair {
+        double distance;
+        size_t layout;
+        size_t dot;
+      };
+      std::vector<Pair> pairs;
+      for (size_t i = 0; i < layout_dots.size(); ++i) {
+        const cv::Point2d p = apply(at.mapping, layout_points[i]);
+        const double limit = gate * spacing[i] * scale;
+        for (size_t k = 0; k < dots.size(); ++k) {
+          const double d = cv::norm(dots[k].center - p);
+          if (d < limit) pairs.push_back({d, i, k});
+        }
+      }
+      std::sort(pairs.begin(), pairs.end(),
+                [](const Pair& x, const Pair& y) { return x.distance < y.distance; });
+      std::fill(at.match.begin(), at.match.end(), -1);
+      std::vector<bool> taken(dots.size(), false);
+      at.matched = 0;
+      at.residual = 0;
+      for (const Pair& p : pairs) {
+        if (at.match[p.layout] >= 0 || taken[p.dot]) continue;
+        at.match[p.layout] = static_cast<int>(p.dot);
+        taken[p.dot] = true;
+        ++at.matched;
+        at.residual += p.distance / (spacing[p.layout] * scale);
+      }
+      // An affine absorbs the face's own proportions and a slight turn.
+      std::vector<cv::Point2d> f = from, t = to;
+      for (size_t i = 0; i < at.match.size(); ++i)
+        if (at.match[i] >= 0) f.push_back(layout_points[i]), t.push_back(dots[at.match[i]].center);
+      if (f.size() < 4) break;
+      cv::Mat a = cv::estimateAffine2D(f, t, cv::noArray(), cv::RANSAC,
+                                       std::max(2.0, 0.3 * closest * scale));
+      if (a.empty()) break;
+      at.mapping = cv::Matx23d(a);
+    }
+    return at;
+  };
+
+  Attempt best;
+  if (!from.empty()) {
+    cv::Mat s = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
+    if (s.empty()) return id;
+    best = settle(cv::Matx23d(s));
+  } else {
+    if (dots.empty()) return id;
+    // No tags: the dot cloud's centre and spread, tried at a range of head rolls.
+    std::vector<cv::Point2d> seen;
+    for (const Dot& d : dots) seen.push_back(d.center);
+    const cv::Matx23d upright = similarity_from_clouds(layout_points, seen);
+    cv::Point2d centre(0, 0);
+    for (const auto& p : seen) centre += p;
+    centre *= 1.0 / static_cast<double>(seen.size());
+    best.matched = -1;
+    for (int degrees = -40; degrees <= 40; degrees += 4) {
+      const double a = degrees * std::numbers::pi / 180, c = std::cos(a), s = std::sin(a);
+      const cv::Matx33d turn(c, -s, centre.x - c * centre.x + s * centre.y, s, c,
+                             centre.y - s * centre.x - c * centre.y, 0, 0, 1);
+      const cv::Matx33d base(upright(0, 0), upright(0, 1), upright(0, 2), upright(1, 0),
+                             upright(1, 1), upright(1, 2), 0, 0, 1);
+      const cv::Matx33d m = turn * base;
+      Attempt at = settle(cv::Matx23d(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2)));
+      if (at.matched > best.matched || (at.matched == best.matched && at.residual < best.residual))
+        best = at;
+    }
+  }
+  id.layout_to_image = best.mapping;
+  id.mapped = true;
+  for (size_t i = 0; i < best.match.size(); ++i)
+    if (best.match[i] >= 0) id.dots[layout_dots[i]->id] = dots[best.match[i]];
+  return id;
+}
+
+std::map<std::string, cv::Point2d> read_start_positions(const std::filesystem::path& path,
+                                                        const MarkerLayout& layout) {
+  TracksReader reader(path);
+  TrackedFrame first;
+  if (!reader.next(first))
+    throw InputError(where(path.string(), 0, "no rows: no starting positions"));
+  std::map<std::string, cv::Point2d> out;
+  for (const MarkerObservation& m : first.markers) {
+    if (!layout.find(m.marker))
+      throw InputError(where(path.string(), 0, "marker '" + m.marker + "' is not in the layout"));
+    if (m.valid) out[m.marker] = m.position;
+  }
+  if (out.empty())
+    throw InputError(where(path.string(), 0,
+                           "no valid starting position in frame " + std::to_string(first.frame)));
+  return out;
+}
+
+}  // namespace rostro::tracking

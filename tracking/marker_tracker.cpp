@@ -1,0 +1,433 @@
+#include "tracking/marker_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "tracking/identify.hpp"
+
+namespace rostro::tracking {
+namespace {
+
+cv::Point2d apply(const cv::Matx23d& m, cv::Point2d p) {
+  return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
+}
+
+double scale_of(const cv::Matx23d& m) {
+  return std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
+}
+
+cv::Point2d mean_of(const std::array<cv::Point2d, 4>& c) {
+  return (c[0] + c[1] + c[2] + c[3]) * 0.25;
+}
+
+cv::Rect box_around(const std::array<cv::Point2d, 4>& corners, double margin) {
+  double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+  for (const auto& p : corners)
+    x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
+  return {static_cast<int>(x0 - margin), static_cast<int>(y0 - margin),
+          static_cast<int>(x1 - x0 + 2 * margin) + 1, static_cast<int>(y1 - y0 + 2 * margin) + 1};
+}
+
+}  // namespace
+
+struct MarkerTracker::Impl {
+  MarkerLayout layout;
+  TrackerOptions options;
+  AprilTagDetector full_detector;
+  AprilTagDetector window_detector;  // small windows: full resolution
+  std::vector<MarkerState> states;
+  // At the start of tracking: positions (seen or predicted), tag corners, dot looks.
+  std::vector<cv::Point2d> reference;
+  std::vector<std::array<cv::Point2d, 4>> reference_corners;
+  std::vector<double> reference_contrast, reference_diameter;
+  std::vector<double> spacing;  // nearest other marker at the start, pixels
+  std::map<std::string, cv::Point2d> start_positions;
+  bool started = false;
+  cv::Mat gray;
+  std::vector<cv::Mat> previous_pyramid, pyramid;
+
+  Impl(MarkerLayout l, TrackerOptions o)
+      : layout(std::move(l)),
+        options(std::move(o)),
+        full_detector(with_layout_families(options.tags)),
+        window_detector(window_options(with_layout_families(options.tags))) {
+    for (const MarkerSpec& m : layout.markers) {
+      MarkerState s;
+      s.spec = &m;
+      states.push_back(s);
+    }
+    options.dots.polarity = layout.polarity;
+  }
+
+  AprilTagOptions with_layout_families(AprilTagOptions o) const {
+    auto families = layout.tag_families();
+    if (!families.empty()) o.families = families;
+    return o;
+  }
+  static AprilTagOptions window_options(AprilTagOptions o) {
+    o.decimation = 1;
+    o.refine_edges = true;
+    o.threads = 1;
+    return o;
+  }
+
+  void to_gray(const cv::Mat& image) {
+    if (image.channels() == 3)
+      cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+    else if (image.channels() == 4)
+      cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
+    else
+      image.copyTo(gray);  // the pyramid keeps it: never share the caller's buffer
+  }
+
+  // ---- start of the take ---------------------------------------------------------------
+
+  void start() {
+    std::vector<TagDetection> tags =
+        layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
+    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;  // frontal -> image
+    if (!start_positions.empty()) {
+      for (MarkerState& s : states) {
+        s.valid = false;
+        auto it = start_positions.find(s.spec->id);
+        if (it == start_positions.end()) continue;
+        if (s.spec->is_tag()) {
+          for (const TagDetection& t : tags)
+            if (t.marker_id() == s.spec->id && cv::norm(t.center - it->second) < 20)
+              s.valid = true, s.corners = t.corners, s.position = t.center;
+        } else if (auto d = refine_dot(gray, it->second, 3, options.dots)) {
+          s.valid = true, s.position = d->center;
+        }
+        if (s.valid) known.push_back({s.spec->frontal(), s.position});
+      }
+    } else {
+      auto dots = detect_dots(gray, options.dots);
+      Identification id = identify_markers(layout, dots, tags);
+      for (MarkerState& s : states) {
+        s.valid = false;
+        if (s.spec->is_tag()) {
+          auto it = id.tags.find(s.spec->id);
+          if (it != id.tags.end())
+            s.valid = true, s.corners = it->second.corners, s.position = it->second.center;
+        } else {
+          auto it = id.dots.find(s.spec->id);
+          if (it != id.dots.end()) s.valid = true, s.position = it->second.center;
+        }
+        if (s.valid) known.push_back({s.spec->frontal(), s.position});
+      }
+    }
+    if (static_cast<int>(known.size()) < std::max(3, options.min_identified)) {
+      for (MarkerState& s : states) s.valid = false;
+      return;
+    }
+
+    // Where the unseen markers should be: the layout mapped by the seen ones.
+    std::vector<cv::Point2d> from, to;
+    for (const auto& [f, t] : known) from.push_back(f), to.push_back(t);
+    cv::Matx23d mapping(cv::estimateAffine2D(from, to, cv::noArray(), cv::LMEDS));
+    const size_t n = states.size();
+    reference.assign(n, {});
+    reference_corners.assign(n, {});
+    reference_contrast.assign(n, 0);
+    reference_diameter.assign(n, 0);
+    std::vector<double> contrasts, diameters;
+    for (size_t i = 0; i < n; ++i) {
+      MarkerState& s = states[i];
+      if (s.valid) {
+        reference[i] = s.position;
+        reference_corners[i] = s.corners;
+        if (!s.spec->is_tag()) {
+          if (auto d = refine_dot(gray, s.position, 1.5, options.dots)) {
+            reference_contrast[i] = d->contrast, reference_diameter[i] = d->diameter;
+            contrasts.push_back(d->contrast), diameters.push_back(d->diameter);
+          }
+        }
+      } else {
+        reference[i] = apply(mapping, s.spec->frontal());
+        if (s.spec->is_tag()) {
+          auto c = s.spec->tag_corners_frontal();
+          for (int k = 0; k < 4; ++k) reference_corners[i][k] = apply(mapping, c[k]);
+        }
+      }
+      s.quality = s.valid ? 1 : 0;
+      s.lost_frames = s.valid ? 0 : 1;
+    }
+    auto median = [](std::vector<double> v) {
+      if (v.empty()) return 0.0;
+      std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+      return v[v.size() / 2];
+    };
+    const double typical_contrast = median(contrasts), typical_diameter = median(diameters);
+    for (size_t i = 0; i < n; ++i)
+      if (!states[i].spec->is_tag() && reference_contrast[i] <= 0)
+        reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter;
+
+    spacing.assign(n, std::numeric_limits<double>::max());
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = 0; j < n; ++j)
+        if (i != j) spacing[i] = std::min(spacing[i], cv::norm(reference[i] - reference[j]));
+    started = true;
+  }
+
+  // ---- per frame -----------------------------------------------------------------------
+
+  bool dot_passes(size_t i, const Dot& d) const {
+    return d.contrast >= options.min_contrast_ratio * reference_contrast[i] &&
+           d.diameter >= 0.5 * reference_diameter[i] && d.diameter <= 2.0 * reference_diameter[i];
+  }
+
+  void follow() {
+    // 1. LK on the valid dots and the valid tags' corners.
+    std::vector<cv::Point2f> before, after, back;
+    std::vector<size_t> owner;  // state index per point
+    for (size_t i = 0; i < states.size(); ++i) {
+      const MarkerState& s = states[i];
+      if (!s.valid) continue;
+      if (s.spec->is_tag()) {
+        for (const auto& c : s.corners) before.emplace_back(c), owner.push_back(i);
+      } else {
+        before.emplace_back(s.position), owner.push_back(i);
+      }
+    }
+    std::vector<uchar> status, status_back;
+    std::vector<float> err;
+    const cv::Size window(options.lk_window, options.lk_window);
+    const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
+    if (!before.empty()) {
+      cv::calcOpticalFlowPyrLK(previous_pyramid, pyramid, before, after, status, err, window,
+                               options.lk_levels, stop);
+      back = before;
+      cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid, after, back, status_back, err, window,
+                               options.lk_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+    }
+
+    // 2. Dots: check and snap to the centre. Tags: re-detect near the moved corners.
+    std::vector<std::array<cv::Point2d, 4>> tag_guess(states.size());
+    std::vector<int> tag_corner_count(states.size(), 0);
+    std::vector<bool> was_valid(states.size());
+    for (size_t i = 0; i < states.size(); ++i) was_valid[i] = states[i].valid;
+    for (size_t k = 0; k < before.size(); ++k) {
+      MarkerState& s = states[owner[k]];
+      if (s.spec->is_tag()) {
+        int& c = tag_corner_count[owner[k]];
+        tag_guess[owner[k]][c] = status[k] ? cv::Point2d(after[k]) : s.corners[c];
+        ++c;
+        continue;
+      }
+      const double fb = cv::norm(back[k] - before[k]);
+      s.valid = false;
+      if (!status[k] || !status_back[k] || fb > options.max_fb_error) continue;
+      auto d = refine_dot(gray, cv::Point2d(after[k]), options.max_snap, options.dots);
+      if (!d || cv::norm(d->center - cv::Point2d(after[k])) > options.max_snap ||
+          !dot_passes(owner[k], *d))
+        continue;
+      s.valid = true;
+      s.position = d->center;
+      s.quality = std::clamp(d->contrast / reference_contrast[owner[k]], 0.0, 1.0) *
+                  (1 - 0.5 * fb / options.max_fb_error);
+    }
+    for (size_t i = 0; i < states.size(); ++i)
+      if (states[i].spec->is_tag() && was_valid[i]) find_tag(i, tag_guess[i]);
+
+    // 3a. A dot must move roughly as its neighbours do: LK that slid onto another dot (a
+    //     neighbour's, while its own was hidden) moves very differently from them.
+    std::vector<cv::Point2d> moved(states.size());
+    for (size_t k = 0; k < before.size(); ++k)
+      if (!states[owner[k]].spec->is_tag())
+        moved[owner[k]] = states[owner[k]].position - cv::Point2d(before[k]);
+    std::vector<size_t> jumped;
+    for (size_t i = 0; i < states.size(); ++i) {
+      if (!states[i].valid || states[i].spec->is_tag() || !was_valid[i]) continue;
+      std::vector<std::pair<double, size_t>> near;
+      for (size_t j = 0; j < states.size(); ++j)
+        if (j != i && states[j].valid && was_valid[j] && !states[j].spec->is_tag())
+          near.push_back({cv::norm(reference[j] - reference[i]), j});
+      if (near.size() < 3) continue;
+      std::sort(near.begin(), near.end());
+      if (near.size() > 6) near.resize(6);
+      std::vector<double> xs, ys;
+      for (const auto& [d, j] : near) xs.push_back(moved[j].x), ys.push_back(moved[j].y);
+      std::nth_element(xs.begin(), xs.begin() + static_cast<long>(xs.size() / 2), xs.end());
+      std::nth_element(ys.begin(), ys.begin() + static_cast<long>(ys.size() / 2), ys.end());
+      const cv::Point2d typical(xs[xs.size() / 2], ys[ys.size() / 2]);
+      if (cv::norm(moved[i] - typical) >
+          std::max(options.max_relative_motion_px, options.max_relative_motion * spacing[i]))
+        jumped.push_back(i);
+    }
+    for (size_t i : jumped) states[i].valid = false;
+
+    // 3b. Two dots on one spot: neither can be trusted (an identity swap is worse than a gap).
+    for (size_t i = 0; i < states.size(); ++i)
+      for (size_t j = i + 1; j < states.size(); ++j) {
+        MarkerState &a = states[i], &b = states[j];
+        if (!a.valid || !b.valid || a.spec->is_tag() || b.spec->is_tag()) continue;
+        if (cv::norm(a.position - b.position) < 0.5 * std::max(reference_diameter[i], 2.0))
+          a.valid = b.valid = false;
+      }
+
+    // 4. Look again for the markers that are not valid, where their neighbours put them.
+    predict_lost();
+    for (size_t i = 0; i < states.size(); ++i)
+      if (!states[i].valid && has_prediction[i]) reacquire(i);
+  }
+
+  bool find_tag(size_t i, const std::array<cv::Point2d, 4>& guess) {
+    MarkerState& s = states[i];
+    const double side = cv::norm(guess[0] - guess[1]);
+    const cv::Rect roi = box_around(guess, options.tag_margin * side + 4);
+    s.valid = false;
+    // Large tags are found as well at half resolution, for a quarter of the cost; the
+    // corners are refined on the full image either way.
+    const float decimation = side > options.tag_decimate_above_px ? 2.0f : 1.0f;
+    for (const TagDetection& t : window_detector.detect(gray, roi, decimation)) {
+      if (t.marker_id() != s.spec->id) continue;
+      if (cv::norm(t.center - mean_of(guess)) > side) continue;
+      s.valid = true;
+      s.corners = t.corners;
+      s.position = t.center;
+      s.quality = std::clamp(t.decision_margin / 100.0, 0.0, 1.0);
+      return true;
+    }
+    return false;
+  }
+
+  // Where each invalid marker should be: an affine fit of its nearest valid neighbours'
+  // start positions to their current ones, checked against the fit of all valid markers.
+  std::vector<cv::Matx23d> prediction_fit;
+  std::vector<bool> has_prediction;
+  std::vector<cv::Point2d> predicted;
+
+  cv::Point2d predicted_at(size_t i) const { return predicted[i]; }
+
+  void predict_lost() {
+    const size_t n = states.size();
+    prediction_fit.assign(n, {});
+    has_prediction.assign(n, false);
+    predicted.assign(n, {});
+    std::vector<cv::Point2d> from, to;
+    for (size_t j = 0; j < n; ++j)
+      if (states[j].valid) from.push_back(reference[j]), to.push_back(states[j].position);
+    if (from.size() < 3) return;
+    cv::Mat global_fit = cv::estimateAffine2D(from, to, cv::noArray(), cv::RANSAC, 3.0);
+    if (global_fit.empty()) return;
+    const cv::Matx23d global(global_fit);
+    const double global_scale = scale_of(global);
+    for (size_t i = 0; i < n; ++i) {
+      if (states[i].valid) continue;
+      cv::Matx23d fit = global;
+      std::vector<std::pair<double, size_t>> near;
+      for (size_t j = 0; j < n; ++j)
+        if (states[j].valid) near.push_back({cv::norm(reference[j] - reference[i]), j});
+      std::sort(near.begin(), near.end());
+      if (near.size() > 6) near.resize(6);
+      if (near.size() >= 4) {
+        std::vector<cv::Point2d> f, t;
+        for (const auto& [d, j] : near) f.push_back(reference[j]), t.push_back(states[j].position);
+        cv::Mat local = cv::estimateAffine2D(f, t, cv::noArray(), cv::LMEDS);
+        if (!local.empty()) {
+          const cv::Matx23d l(local);
+          double worst = 0;
+          for (size_t k = 0; k < f.size(); ++k)
+            worst = std::max(worst, cv::norm(apply(l, f[k]) - t[k]));
+          const double ratio = scale_of(l) / global_scale;
+          // A local fit that bends more than a face does is ignored.
+          if (worst < std::max(2.0, 0.15 * spacing[i] * global_scale) && ratio > 0.7 && ratio < 1.4)
+            fit = l;
+        }
+      }
+      prediction_fit[i] = fit;
+      predicted[i] = apply(fit, reference[i]);
+      has_prediction[i] = true;
+    }
+  }
+
+  void reacquire(size_t i) {
+    MarkerState& s = states[i];
+    const cv::Matx23d& m = prediction_fit[i];
+    const double scale = scale_of(m);
+    if (s.spec->is_tag()) {
+      std::array<cv::Point2d, 4> guess;
+      for (int k = 0; k < 4; ++k) guess[k] = apply(m, reference_corners[i][k]);
+      find_tag(i, guess);
+      return;
+    }
+    const cv::Point2d expected = predicted_at(i);
+    const double radius = options.search_fraction * spacing[i] * scale;
+    auto d = refine_dot(gray, expected, radius, options.dots);
+    if (!d || cv::norm(d->center - expected) > radius || !dot_passes(i, *d)) return;
+    // A dot that belongs to a valid neighbour, or lies nearer another lost marker's expected
+    // place than to this one's, is not this marker.
+    const double own = cv::norm(d->center - expected);
+    for (size_t j = 0; j < states.size(); ++j) {
+      if (j == i || states[j].spec->is_tag()) continue;
+      if (states[j].valid && cv::norm(states[j].position - d->center) < 0.5 * spacing[j] * scale)
+        return;
+      if (!states[j].valid && has_prediction[j] && cv::norm(predicted_at(j) - d->center) < own)
+        return;
+    }
+    s.valid = true;
+    s.position = d->center;
+    s.quality = 0.9 * std::clamp(d->contrast / reference_contrast[i], 0.0, 1.0);
+  }
+};
+
+MarkerTracker::MarkerTracker(MarkerLayout layout, TrackerOptions options)
+    : impl_(std::make_unique<Impl>(std::move(layout), std::move(options))) {}
+
+MarkerTracker::~MarkerTracker() = default;
+
+void MarkerTracker::set_start_positions(const std::map<std::string, cv::Point2d>& positions) {
+  impl_->start_positions = positions;
+  impl_->started = false;
+}
+
+TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_s) {
+  Impl& m = *impl_;
+  m.to_gray(image);
+  if (m.started) {
+    cv::buildOpticalFlowPyramid(m.gray, m.pyramid, {m.options.lk_window, m.options.lk_window},
+                                m.options.lk_levels);
+    m.follow();
+    bool any =
+        std::any_of(m.states.begin(), m.states.end(), [](const MarkerState& s) { return s.valid; });
+    if (!any) m.started = false;  // everything lost: identify again from scratch
+  } else {
+    m.start();
+    if (m.started)
+      cv::buildOpticalFlowPyramid(m.gray, m.pyramid, {m.options.lk_window, m.options.lk_window},
+                                  m.options.lk_levels);
+  }
+  std::swap(m.previous_pyramid, m.pyramid);
+
+  TrackedFrame out;
+  out.frame = frame;
+  out.time_s = time_s;
+  for (MarkerState& s : m.states) {
+    s.lost_frames = s.valid ? 0 : s.lost_frames + 1;
+    if (!s.valid) s.quality = 0;
+    MarkerObservation o;
+    o.marker = s.spec->id;
+    o.feature_point = s.spec->feature_point;
+    o.valid = s.valid;
+    o.position = s.valid ? s.position : cv::Point2d(std::nan(""), std::nan(""));
+    o.quality = s.quality;
+    out.markers.push_back(o);
+  }
+  return out;
+}
+
+bool MarkerTracker::started() const {
+  return impl_->started;
+}
+const std::vector<MarkerState>& MarkerTracker::states() const {
+  return impl_->states;
+}
+const MarkerLayout& MarkerTracker::layout() const {
+  return impl_->layout;
+}
+
+}  // namespace rostro::tracking

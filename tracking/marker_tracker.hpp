@@ -1,0 +1,75 @@
+#pragma once
+// Follows the layout's markers through a take, frame by frame.
+//
+// First frame: every dot and tag is detected and identified (identify.hpp), or the markers
+// start where a file of starting positions puts them. Then, per frame:
+//  1. dots move by pyramidal Lucas-Kanade from the previous frame, checked forward-backward;
+//  2. each result is snapped to the dot's measured centre (dot_detector.hpp), so errors never
+//     add up; a dot whose contrast, size or position fails the checks turns invalid;
+//  3. tags are re-detected in a small window around where the dots' motion puts them;
+//  4. an invalid marker is looked for near where its valid neighbours say it should be
+//     (an affine fit of the neighbours' start positions to their current ones) and comes
+//     back with its own identity; it is never guessed while unseen.
+
+#include <map>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "tracking/apriltag_detector.hpp"
+#include "tracking/dot_detector.hpp"
+#include "tracking/layout.hpp"
+#include "tracking/tracked_frame.hpp"
+
+namespace rostro::tracking {
+
+struct TrackerOptions {
+  DotOptions dots;
+  AprilTagOptions tags;               // for the first frame (whole image)
+  int lk_window = 13;                 // pixels
+  int lk_levels = 2;                  // pyramid levels above the image: motion up to ~25 px/frame
+  double max_fb_error = 1.0;          // pixels, forward-backward round trip
+  double max_snap = 2.5;              // pixels between LK's answer and the dot's centre
+  double min_contrast_ratio = 0.4;    // of the dot's contrast at identification
+  double tag_margin = 0.3;            // tag search window: expected box + this x tag size
+  double tag_decimate_above_px = 48;  // tags wider than this are searched at half resolution
+  double search_fraction = 0.45;      // re-acquisition radius, fraction of the nearest spacing
+  // How far a dot's frame-to-frame motion may differ from its neighbours' (the larger of a
+  // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.
+  double max_relative_motion = 0.35;
+  double max_relative_motion_px = 4;
+  int min_identified = 3;  // markers needed to start tracking
+};
+
+// One marker's state as the overlay draws it.
+struct MarkerState {
+  const MarkerSpec* spec = nullptr;
+  bool valid = false;
+  cv::Point2d position;
+  std::array<cv::Point2d, 4> corners{};  // tags only
+  double quality = 0;
+  int lost_frames = 0;  // frames since it was last valid
+};
+
+class MarkerTracker {
+ public:
+  MarkerTracker(MarkerLayout layout, TrackerOptions options = {});
+  ~MarkerTracker();
+
+  // Start from these positions (layout id -> pixels) instead of identifying automatically.
+  void set_start_positions(const std::map<std::string, cv::Point2d>& positions);
+
+  // `image`: 8-bit grey or BGR. Every layout marker appears in the result, in layout order.
+  TrackedFrame track(const cv::Mat& image, long frame, double time_s);
+
+  bool started() const;
+  const std::vector<MarkerState>& states() const;
+  const MarkerLayout& layout() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rostro::tracking
