@@ -9,50 +9,15 @@
 
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
-#include "calib/actor_calibration.hpp"
+#include "calib/actor_prior.hpp"
 #include "calib/camera_intrinsics.hpp"
 #include "calib/chessboard_calibration.hpp"
-#include "calib/generic_face.hpp"
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
-#include "facecore/face_model.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace rostro::app {
-
-// Shared with capture_commands.cpp: the 3D prior and the layout's markers placed on it.
-struct ActorPrior {
-  FeaturePointPositions points;
-  std::string name;
-};
-
-ActorPrior load_actor_prior() {
-  try {
-    const FaceModel head = load_default_face_model();
-    return {head.feature_point_positions(), "the default head (" + head.name + ")"};
-  } catch (const InputError&) {
-    return {calib::generic_face_points(), "rostro's built-in generic face"};
-  }
-}
-
-calib::ActorCalibrationOptions actor_calibration_options(const tracking::MarkerLayout& layout,
-                                                         const ActorPrior& prior,
-                                                         const std::string& name) {
-  calib::ActorCalibrationOptions o;
-  o.name = name;
-  o.prior = &prior.points;
-  o.prior_name = prior.name;
-  std::vector<calib::NominalMarker> nominal;
-  for (const auto& m : layout.markers) {
-    std::optional<FeaturePointId> fp;
-    if (is_feature_point(m.feature_point)) fp = m.feature_point;
-    nominal.push_back({m.id, fp, {m.position_mm.x, m.position_mm.y, m.position_mm.z}});
-    if (m.rigid) o.rigid_markers.insert(m.id);
-  }
-  o.marker_priors = calib::place_nominal_markers(nominal, prior.points);
-  return o;
-}
 
 namespace {
 
@@ -109,9 +74,9 @@ void run_calibrate_actor(const ActorArgs& a) {
   if (frames.empty()) throw InputError(a.source + ": no frames to calibrate from");
   const calib::CameraIntrinsics camera =
       a.camera.empty() ? calib::default_intrinsics(size) : calib::read_intrinsics(a.camera);
-  const ActorPrior prior = load_actor_prior();
-  const auto profile =
-      calib::calibrate_actor(frames, camera, actor_calibration_options(layout, prior, a.name));
+  const calib::ActorPrior prior = calib::load_actor_prior();
+  const auto profile = calib::calibrate_actor(
+      frames, camera, calib::actor_calibration_options(layout, prior, a.name));
   calib::write_actor_profile(a.output, profile);
   std::printf(
       "%s: %zu markers from %zu neutral frames; ES0 %.1f ENS0 %.1f MNS0 %.1f MW0 %.1f "

@@ -11,7 +11,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
-#include "calib/actor_calibration.hpp"
+#include "calib/actor_prior.hpp"
 #include "calib/camera_intrinsics.hpp"
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
@@ -22,16 +22,6 @@
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
-
-// From calibrate_commands.cpp.
-struct ActorPrior {
-  FeaturePointPositions points;
-  std::string name;
-};
-ActorPrior load_actor_prior();
-calib::ActorCalibrationOptions actor_calibration_options(const tracking::MarkerLayout& layout,
-                                                         const ActorPrior& prior,
-                                                         const std::string& name);
 
 namespace {
 
@@ -103,9 +93,9 @@ void run_capture(const CaptureArgs& a) {
     const calib::CameraIntrinsics camera = a.camera.empty()
                                                ? calib::default_intrinsics(input.size())
                                                : calib::read_intrinsics(a.camera);
-    const ActorPrior prior = load_actor_prior();
+    const calib::ActorPrior prior = calib::load_actor_prior();
     profile = calib::calibrate_actor({pending.begin(), pending.end()}, camera,
-                                     actor_calibration_options(layout, prior, "actor"));
+                                     calib::actor_calibration_options(layout, prior, "actor"));
     std::fprintf(stderr,
                  "rostro capture: no --actor given: calibrated the actor from the first %zu "
                  "frames (%.1f s), assumed neutral%s\n",

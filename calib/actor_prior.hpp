@@ -1,0 +1,26 @@
+#pragma once
+// The 3D prior actor calibration starts from, and the layout's markers placed on it: shared
+// by `rostro calibrate actor`, `rostro capture` and `rostro live`.
+
+#include <string>
+
+#include "calib/actor_calibration.hpp"
+#include "facecore/fapu.hpp"
+#include "tracking/layout.hpp"
+
+namespace rostro::calib {
+
+struct ActorPrior {
+  FeaturePointPositions points;
+  std::string name;  // says which prior was used, for the profile's notes
+};
+
+// The default head's feature points, or rostro's built-in generic face when no head loads.
+ActorPrior load_actor_prior();
+
+// Calibration options for `layout` on `prior`: nominal marker positions and rigid markers.
+// `prior` must outlive the options (they point at its points).
+ActorCalibrationOptions actor_calibration_options(const tracking::MarkerLayout& layout,
+                                                  const ActorPrior& prior, const std::string& name);
+
+}  // namespace rostro::calib
