@@ -1,0 +1,216 @@
+// `rostro eval ...`: score tracks and FAP streams against ground truth, with reports and plots.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "apps/commands.hpp"
+#include "eval/eval_plots.hpp"
+#include "eval/report.hpp"
+#include "eval/track_metrics.hpp"
+#include "eval/truth_tracks.hpp"
+#include "facecore/error.hpp"
+#include "facecore/fap_io.hpp"
+#include "tracking/tracks_csv.hpp"
+
+namespace rostro::app {
+namespace {
+
+std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  std::string part;
+  while (std::getline(in, part, ',')) parts.push_back(part);
+  return parts;
+}
+
+// Output paths are checked before any work, so a typo costs nothing.
+void require_extension(const std::string& path, const char* ext, const char* option) {
+  if (!path.empty() && std::filesystem::path(path).extension() != ext)
+    throw InputError(fmt::format("{} {}: expected a {} file", option, path, ext));
+}
+
+struct TracksArgs {
+  std::string truth, tracks, norm = "3.7,3.12", report, summary, ced, match = "auto", label,
+                             pts_map;
+  double threshold = eval::kDefaultAucThreshold, swap_threshold = 0.05, pts_fps = 30.0;
+  long pts_first_frame = 0;
+  bool lost_is_failure = false;
+};
+
+void eval_tracks(const TracksArgs& a) {
+  require_extension(a.report, ".json", "--report");
+  require_extension(a.summary, ".md", "--summary");
+  require_extension(a.ced, ".png", "--ced");
+  eval::TrackEvalOptions o;
+  const auto norm = split_commas(a.norm);
+  if (norm.size() != 2 || norm[0].empty() || norm[1].empty())
+    throw InputError("--norm " + a.norm + ": expected two points 'A,B', e.g. 3.7,3.12");
+  o.norm_a = norm[0];
+  o.norm_b = norm[1];
+  if (!(a.threshold > 0)) throw InputError("--threshold must be positive");
+  if (a.swap_threshold < 0) throw InputError("--swap-threshold must not be negative");
+  o.threshold = a.threshold;
+  o.swap_threshold = a.swap_threshold;
+  o.lost_is_failure = a.lost_is_failure;
+  const bool pts = eval::is_pts_truth(a.truth);
+  if (a.match == "marker")
+    o.match = eval::MatchBy::Marker;
+  else if (a.match == "fp" || (a.match == "auto" && pts))
+    o.match = eval::MatchBy::FeaturePoint;
+  else if (a.match == "auto")
+    o.match = eval::MatchBy::Marker;
+  else
+    throw InputError("--match " + a.match + ": expected 'marker', 'fp' or 'auto'");
+
+  eval::TruthOptions truth_options;
+  truth_options.pts_mapping = a.pts_map;
+  truth_options.pts_first_frame = a.pts_first_frame;
+  truth_options.pts_fps = a.pts_fps;
+  const auto truth = eval::read_truth_tracks(a.truth, truth_options);
+  const auto estimate = tracking::read_tracks(a.tracks);
+  const eval::TrackEvalResult r = eval::evaluate_tracks(truth, estimate, o);
+  const eval::ReportSources sources{a.truth, a.tracks};
+
+  if (!a.report.empty()) eval::write_text_file(a.report, eval::track_report_json(r, sources));
+  if (!a.summary.empty())
+    eval::write_text_file(a.summary, eval::track_summary_markdown(r, sources));
+  if (!a.ced.empty()) {
+    const std::string label =
+        a.label.empty() ? std::filesystem::path(a.tracks).stem().string() : a.label;
+    eval::write_png(a.ced, eval::draw_chart(eval::ced_chart({{label, r.frame_nme}}, o.threshold,
+                                                            std::max(0.1, o.threshold * 1.25)),
+                                            {900, 600}));
+  }
+  std::printf(
+      "%ld frames scored (%ld missing)  NME mean %.4f median %.4f  AUC@%.2f %.3f  "
+      "failure %.1f%%\n"
+      "error px mean %.2f p95 %.2f  lost %ld observations in %ld frames  swaps %ld (%ld "
+      "events)\n",
+      r.scored_frames, r.missing_frames, r.nme.mean, r.nme.median, o.threshold, r.auc,
+      100 * r.failure_rate, r.error_px.mean, r.error_px.p95, r.lost_observations, r.lost_frames,
+      r.swap_observations, r.swap_events);
+}
+
+struct FapsArgs {
+  std::string truth, est, report, summary, plot, faps;
+};
+
+void eval_faps(const FapsArgs& a) {
+  require_extension(a.report, ".json", "--report");
+  require_extension(a.summary, ".md", "--summary");
+  require_extension(a.plot, ".png", "--plot");
+  std::vector<int> chosen;
+  for (const std::string& part : split_commas(a.faps)) {
+    int id = 0;
+    try {
+      std::size_t used = 0;
+      id = std::stoi(part, &used);
+      if (used != part.size()) id = 0;
+    } catch (const std::exception&) {
+      id = 0;
+    }
+    if (id < 3 || id > kFapCount)
+      throw InputError("--faps " + a.faps + ": '" + part +
+                       "' is not a low-level FAP number (3..68)");
+    chosen.push_back(id);
+  }
+  const FapStream truth = read_fap_stream(a.truth);
+  const FapStream est = read_fap_stream(a.est);
+  const eval::FapEvalResult r = eval::evaluate_faps(truth, est);
+  const eval::ReportSources sources{a.truth, a.est};
+  if (!a.report.empty()) eval::write_text_file(a.report, eval::fap_report_json(r, sources));
+  if (!a.summary.empty()) eval::write_text_file(a.summary, eval::fap_summary_markdown(r, sources));
+  if (!a.plot.empty()) {
+    if (chosen.empty()) chosen = eval::widest_range_faps(r, 3);
+    for (int id : chosen) {
+      const bool compared = std::any_of(r.faps.begin(), r.faps.end(),
+                                        [id](const eval::FapError& e) { return e.fap == id; });
+      if (compared) continue;
+      std::string present;
+      for (const eval::FapError& e : r.faps)
+        present += (present.empty() ? "" : ",") + std::to_string(e.fap);
+      throw InputError(fmt::format("--faps: FAP {} is not set in both streams (both set: {})", id,
+                                   present.empty() ? "none" : present));
+    }
+    if (chosen.empty()) throw InputError("--plot: the two streams share no FAP to draw");
+    eval::write_png(a.plot,
+                    eval::draw_charts(eval::fap_curve_charts(truth, est, chosen), {1000, 280}));
+  }
+  std::printf(
+      "%ld matched frames, %zu FAPs compared  mean RMS %.2f  mean RMS/range %s  "
+      "mean correlation %s\n",
+      r.matched_frames, r.faps.size(), r.mean_rms,
+      r.mean_share_of_range ? fmt::format("{:.3f}", *r.mean_share_of_range).c_str() : "n/a",
+      r.mean_correlation ? fmt::format("{:.3f}", *r.mean_correlation).c_str() : "n/a");
+  std::printf("%-4s %-28s %7s %9s %9s %7s\n", "FAP", "name", "frames", "RMS", "RMS/range", "corr");
+  for (const eval::FapError& f : r.faps)
+    std::printf("%-4d %-28s %7ld %9.2f %9s %7s\n", f.fap, std::string(fap_info(f.fap).name).c_str(),
+                f.frames, f.rms,
+                f.rms_share_of_range ? fmt::format("{:.3f}", *f.rms_share_of_range).c_str() : "n/a",
+                f.correlation ? fmt::format("{:.3f}", *f.correlation).c_str() : "n/a");
+}
+
+}  // namespace
+
+void add_eval_commands(CLI::App& app) {
+  CLI::App* eval = app.add_subcommand("eval", "Score tracks and FAP streams against ground truth");
+  eval->require_subcommand(1);
+  eval->footer("Example:\n  rostro eval tracks --truth truth.csv --tracks take.csv --ced ced.png");
+
+  static TracksArgs t;
+  CLI::App* tracks = eval->add_subcommand(
+      "tracks", "Marker errors, NME, CED, AUC and failure rate (300-VW), lost frames and swaps");
+  tracks
+      ->add_option("--truth", t.truth,
+                   "ground truth: tracks CSV, or iBUG .pts (a folder, a list .txt, one .pts)")
+      ->required();
+  tracks->add_option("--tracks", t.tracks, "estimated tracks CSV (rostro track)")->required();
+  tracks->add_option("--norm", t.norm, "normalising pair: feature points or marker ids")
+      ->capture_default_str();
+  tracks->add_option("--report", t.report, "write the JSON report here");
+  tracks->add_option("--summary", t.summary, "write a Markdown summary here");
+  tracks->add_option("--ced", t.ced, "draw the CED curve as this PNG");
+  tracks->add_option("--label", t.label, "legend label of the CED curve (default: file name)");
+  tracks->add_option("--threshold", t.threshold, "NME threshold of AUC and failure rate")
+      ->capture_default_str();
+  tracks
+      ->add_option("--swap-threshold", t.swap_threshold,
+                   "own error (times the normalising distance) before a swap counts")
+      ->capture_default_str();
+  tracks
+      ->add_option("--match", t.match,
+                   "match markers by 'marker' id or 'fp' (auto: fp for .pts truth)")
+      ->capture_default_str();
+  tracks->add_flag("--lost-is-failure", t.lost_is_failure,
+                   "a frame with any lost marker counts as a failure");
+  tracks->add_option("--pts-map", t.pts_map,
+                     "iBUG index -> marker mapping JSON (default data/eval/ibug68_to_mpeg4.json)");
+  tracks->add_option("--pts-first-frame", t.pts_first_frame, "frame number of the first .pts file")
+      ->capture_default_str();
+  tracks->add_option("--pts-fps", t.pts_fps, "frame rate of a .pts sequence")
+      ->capture_default_str();
+  tracks->footer(
+      "Example:\n  rostro eval tracks --truth clip.truth.csv --tracks clip.tracks.csv \\\n"
+      "      --report clip.eval.json --summary clip.eval.md --ced clip.ced.png");
+  tracks->callback([] { eval_tracks(t); });
+
+  static FapsArgs f;
+  CLI::App* faps = eval->add_subcommand(
+      "faps", "Per-FAP RMS error (FAPU and share of range) and correlation; FAP curve plots");
+  faps->add_option("--truth", f.truth, "truth FAP stream (.fap, .csv or .json)")->required();
+  faps->add_option("--est", f.est, "estimated FAP stream")->required();
+  faps->add_option("--report", f.report, "write the JSON report here");
+  faps->add_option("--summary", f.summary, "write a Markdown summary here");
+  faps->add_option("--plot", f.plot, "draw truth and estimate curves as this PNG");
+  faps->add_option("--faps", f.faps,
+                   "FAPs to plot, e.g. 3,12,13 (default: the three with the widest range)");
+  faps->footer(
+      "Example:\n  rostro eval faps --truth clip.fap --est take.fap --plot curves.png --faps "
+      "3,12,13");
+  faps->callback([] { eval_faps(f); });
+}
+
+}  // namespace rostro::app

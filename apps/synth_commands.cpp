@@ -1,0 +1,107 @@
+// `rostro synth`: render a clip of the default head wearing the marker layout, with exact
+// ground-truth tracks, the driving .fap and the camera intrinsics.
+
+#include <fmt/format.h>
+
+#include <cstdio>
+
+#include "apps/commands.hpp"
+#include "apps/progress.hpp"
+#include "calib/camera_intrinsics.hpp"
+#include "eval/synth.hpp"
+#include "facecore/error.hpp"
+#include "facecore/fap_io.hpp"
+#include "render/video_writer.hpp"
+#include "tracking/tracks_csv.hpp"
+
+namespace rostro::app {
+namespace {
+
+struct SynthArgs {
+  std::string output, fap, layout, size = "640x480";
+  double fps = 25, seconds = 0;
+  eval::SynthOptions o;
+};
+
+void synth(SynthArgs a) {
+  if (a.output.empty()) throw InputError("-o/--output: a path prefix is required");
+  int w = 0, h = 0;
+  char x = 0;
+  if (std::sscanf(a.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16)
+    throw InputError("--size " + a.size + ": expected WIDTHxHEIGHT, e.g. 640x480");
+  a.o.width = w;
+  a.o.height = h;
+  if (!(a.fps > 0)) throw InputError("--fps must be positive");
+
+  FapStream drive = a.fap.empty() ? eval::range_of_motion(a.fps) : read_fap_stream(a.fap);
+  if (a.seconds > 0) {
+    const auto keep = static_cast<std::size_t>(std::lround(a.seconds * drive.header.fps));
+    if (keep < drive.frames.size()) drive.frames.resize(keep);
+  }
+  drive.header.frame_count = static_cast<long>(drive.frames.size());
+
+  const FaceModel model = load_default_face_model();
+  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const tracking::MarkerLayout layout = tracking::load_layout(
+      a.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(a.layout));
+  const auto painted = eval::place_markers(model, layout);
+  a.o.dot_diameter_mm = layout.dot_diameter_mm;
+  a.o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
+  if (painted.empty()) throw InputError("the layout has no dot on a feature point of the head");
+
+  const std::string video = a.output + ".mp4";
+  render::VideoOptions vo;
+  vo.fps = drive.header.fps;
+  render::VideoWriter sink(video, vo);
+  Progress progress("rendering", static_cast<long>(drive.frames.size()));
+  const eval::SynthResult r = eval::synthesize(model, &library, painted, drive, a.o, sink,
+                                               [&](long done) { progress.update(done); });
+  progress.finish();
+  tracking::write_tracks(a.output + ".truth.csv", r.truth);
+  write_fap_stream(a.output + ".fap", drive);
+  calib::write_intrinsics(a.output + ".intrinsics.yml", r.intrinsics);
+  std::printf("%s: %zu frames, %zu dot markers (%d tags not drawn)\n", video.c_str(),
+              drive.frames.size(), painted.size(), layout.tag_count());
+  std::printf("%s.truth.csv, %s.fap, %s.intrinsics.yml\n", a.output.c_str(), a.output.c_str(),
+              a.output.c_str());
+}
+
+}  // namespace
+
+void add_synth_commands(CLI::App& app) {
+  static SynthArgs a;
+  CLI::App* cmd = app.add_subcommand(
+      "synth", "Render a marker clip of the default head with exact ground-truth tracks");
+  cmd->add_option("-o,--output", a.output,
+                  "path prefix: writes PREFIX.mp4, .truth.csv, .fap, .intrinsics.yml")
+      ->required();
+  cmd->add_option("--fap", a.fap, "FAP stream driving the face (default: a range-of-motion clip)");
+  cmd->add_option("--layout", a.layout, "marker layout JSON (default data/layouts/default.json)");
+  cmd->add_option("--seconds", a.seconds, "cut the clip to this length");
+  cmd->add_option("--fps", a.fps, "frame rate of the range-of-motion clip")->capture_default_str();
+  cmd->add_option("--size", a.size, "image size WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--fov", a.o.fov_deg, "vertical field of view, degrees")->capture_default_str();
+  cmd->add_option("--distance-scale", a.o.distance_scale,
+                  "camera distance relative to the automatic framing")
+      ->capture_default_str();
+  cmd->add_option("--yaw", a.o.yaw_deg, "head turn amplitude left-right, degrees");
+  cmd->add_option("--pitch", a.o.pitch_deg, "head nod amplitude, degrees");
+  cmd->add_option("--roll", a.o.roll_deg, "head tilt amplitude, degrees");
+  cmd->add_option("--motion-period", a.o.motion_period_s, "seconds per head sweep")
+      ->capture_default_str();
+  cmd->add_option("--distance-amp", a.o.distance_amp, "relative distance change, e.g. 0.1");
+  cmd->add_option("--brightness", a.o.brightness, "overall gain (0.4: low light)")
+      ->capture_default_str();
+  cmd->add_option("--light", a.o.light_amp, "slow brightness dips of up to this share (0..1)");
+  cmd->add_option("--noise", a.o.noise_sigma, "Gaussian sensor noise, grey levels");
+  cmd->add_option("--motion-blur", a.o.motion_blur, "shutter open share of a frame (0..1)");
+  cmd->add_flag("--occluder", a.o.occluder, "a hand-sized blob passes across the lower face");
+  cmd->add_option("--seed", a.o.seed, "seed of every random choice")->capture_default_str();
+  cmd->footer(
+      "Example:\n  rostro synth -o clips/turn --yaw 25 --pitch 15 --noise 3 --seed 7\n"
+      "  rostro track clips/turn.mp4 -o turn.tracks.csv   # then\n"
+      "  rostro eval tracks --truth clips/turn.truth.csv --tracks turn.tracks.csv");
+  cmd->callback([] { synth(a); });
+}
+
+}  // namespace rostro::app

@@ -1,0 +1,55 @@
+#pragma once
+// Ground truth as an iBUG .pts sequence (300-W / 300-VW annotations): one file per frame,
+//   version: 1
+//   n_points: 68
+//   {
+//   x y        (n_points lines, pixels)
+//   }
+// turned into tracks through a mapping from the 68 iBUG points to rostro markers.
+// data/eval/ibug68_to_mpeg4.json is the default mapping; its format:
+//   {"index_base": 1, "markers": [{"marker": "3.7", "fp": "3.7", "ibug": [46]}, ...]}
+// A marker may average several iBUG points ("ibug": [38, 39] is the midpoint of 38 and 39).
+// "marker" is optional and defaults to the feature point's name.
+
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "tracking/tracked_frame.hpp"
+
+namespace rostro::eval {
+
+struct IbugMarker {
+  std::string marker;
+  FeaturePointId feature_point;
+  std::vector<int> points;  // 0-based indices into a .pts file
+};
+
+struct IbugMapping {
+  int point_count = 68;  // the largest index + 1 any entry needs
+  std::vector<IbugMarker> markers;
+};
+
+// Throws InputError naming the file and the entry for anything malformed.
+IbugMapping read_ibug_mapping(const std::filesystem::path& path);
+// data/eval/ibug68_to_mpeg4.json.
+IbugMapping default_ibug_mapping();
+
+// Throws InputError naming the file and line for a malformed file.
+std::vector<cv::Point2d> read_pts(const std::filesystem::path& path);
+
+// A folder gives its *.pts files in natural order ("2.pts" before "10.pts"); any other
+// file is a list with one .pts path per line (relative to the list's folder; blank lines
+// and lines starting with '#' skipped). Throws InputError when nothing is found.
+std::vector<std::filesystem::path> list_pts_sequence(const std::filesystem::path& path);
+
+// Reads the sequence as tracks: file k becomes frame first_frame + k at time k / fps, every
+// mapped marker visible. Throws InputError when a file has too few points for the mapping.
+std::vector<tracking::TrackedFrame> read_pts_sequence(
+    const std::vector<std::filesystem::path>& files, const IbugMapping& mapping,
+    long first_frame = 0, double fps = 30.0);
+
+// "a2b10" < "a2b9"? No: digit runs compare as numbers, so "frame_2" < "frame_10".
+bool natural_less(const std::string& a, const std::string& b);
+
+}  // namespace rostro::eval

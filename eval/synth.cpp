@@ -1,0 +1,260 @@
+#include "eval/synth.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+#include "facecore/error.hpp"
+#include "render/camera.hpp"
+#include "render/face_renderer.hpp"
+
+namespace rostro::eval {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+struct Projector {
+  render::CameraMatrices m;
+  int width = 0, height = 0;
+  // Pixel coordinates with OpenCV's convention (pixel centres at integers, row 0 on top);
+  // false behind the camera.
+  bool project(const Eigen::Vector3f& p, cv::Point2d& out) const {
+    const Eigen::Vector4f c = m.view * Eigen::Vector4f(p.x(), p.y(), p.z(), 1.0f);
+    if (c.z() >= 0) return false;
+    const double x_ndc = m.projection(0, 0) * c.x() / -c.z();
+    const double y_ndc = m.projection(1, 1) * c.y() / -c.z();
+    out = {(x_ndc + 1.0) * width / 2.0 - 0.5, (1.0 - y_ndc) * height / 2.0 - 0.5};
+    return true;
+  }
+};
+
+// A raised-cosine bump: 0 outside [start, start + length], 1 at its middle.
+double bump(double t, double start, double length) {
+  if (t < start || t > start + length) return 0;
+  return 0.5 - 0.5 * std::cos(2 * kPi * (t - start) / length);
+}
+
+// The occluder: an ellipse crossing the image left to right over the middle of the clip.
+struct Occluder {
+  bool active = false;
+  cv::Point2d centre;
+  cv::Size2d axes;
+  bool covers(const cv::Point2d& p) const {
+    if (!active) return false;
+    const double dx = (p.x - centre.x) / axes.width, dy = (p.y - centre.y) / axes.height;
+    return dx * dx + dy * dy <= 1.0;
+  }
+};
+
+}  // namespace
+
+std::vector<PaintedMarker> place_markers(const FaceModel& model,
+                                         const tracking::MarkerLayout& layout) {
+  std::vector<PaintedMarker> placed;
+  for (const tracking::MarkerSpec& spec : layout.markers)
+    if (!spec.is_tag() && model.has_feature_point(spec.feature_point))
+      placed.push_back({&spec, model.feature_points.at(spec.feature_point)});
+  return placed;
+}
+
+FapStream range_of_motion(double fps) {
+  // Amplitudes in each FAP's own unit, near the ends of a natural range.
+  const std::vector<std::vector<std::pair<int, double>>> poses = {
+      {{3, 350}},                       // open the jaw
+      {{12, 180}, {13, 180}},           // raise the lip corners (smile)
+      {{6, 150}, {7, 150}},             // stretch the lip corners
+      {{4, -120}, {5, -160}, {3, 80}},  // part the lips
+      {{31, 160}, {32, 160}, {33, 180}, {34, 180}, {35, 150}, {36, 150}},  // brows up
+      {{31, -80}, {32, -80}, {37, 60}, {38, 60}},    // brows down and squeezed
+      {{19, 500}, {20, 500}, {21, 500}, {22, 500}},  // blink
+      {{15, 120}, {16, 120}, {53, 120}, {54, 120}},  // corners toward the face's left
+  };
+  FapStream s;
+  s.header.name = "rostro-range-of-motion";
+  s.header.fps = fps;
+  const double step = 1.0;  // seconds per pose
+  const long frames = std::lround(step * static_cast<double>(poses.size()) * fps);
+  for (long i = 0; i < frames; ++i) {
+    FapFrame f;
+    f.index = i;
+    f.time_s = static_cast<double>(i) / fps;
+    std::array<double, kFapCount> values{};
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      const double w = bump(f.time_s, step * static_cast<double>(k), step);
+      for (const auto& [id, v] : poses[k]) values[static_cast<std::size_t>(id - 1)] += w * v;
+    }
+    for (const auto& pose : poses)
+      for (const auto& [id, v] : pose)
+        f.set(id, std::round(values[static_cast<std::size_t>(id - 1)]));
+    s.frames.push_back(f);
+  }
+  s.header.frame_count = frames;
+  return s;
+}
+
+SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
+                       const std::vector<PaintedMarker>& markers, const FapStream& drive,
+                       const SynthOptions& o, render::FrameSink& sink,
+                       const std::function<void(long)>& progress) {
+  if (o.width < 16 || o.height < 16) throw InputError("synth: the image must be at least 16x16");
+  if (!(drive.header.fps > 0)) throw InputError("synth: the FAP stream has no frame rate");
+  if (drive.frames.empty()) throw InputError("synth: the FAP stream has no frames");
+  if (o.motion_blur < 0 || o.motion_blur > 1)
+    throw InputError("synth: --motion-blur must be in 0..1");
+  if (o.light_amp < 0 || o.light_amp > 1) throw InputError("synth: --light must be in 0..1");
+
+  render::RenderOptions ro;
+  ro.width = o.width;
+  ro.height = o.height;
+  render::FaceRenderer face(model, library, ro);
+  const double aspect = static_cast<double>(o.width) / o.height;
+  render::CameraPose base = render::CameraPose::front();
+  base.fov_deg = o.fov_deg;
+  const double base_distance =
+      render::frame_camera(base, face.framing(), aspect).distance * o.distance_scale;
+
+  cv::RNG rng(o.seed);
+  // Seeded phases so two seeds give different motion, one seed always the same.
+  const double phase_pitch = rng.uniform(0.0, 2 * kPi), phase_roll = rng.uniform(0.0, 2 * kPi);
+  const double phase_light = rng.uniform(0.0, 2 * kPi), phase_dist = rng.uniform(0.0, 2 * kPi);
+  const double occluder_y = rng.uniform(0.55, 0.75);
+  const double fps = drive.header.fps;
+  const double duration = static_cast<double>(drive.frames.size()) / fps;
+
+  SynthResult result;
+  {
+    render::CameraPose pose = base;
+    pose.distance = base_distance;
+    const auto m = render::frame_camera(pose, face.framing(), aspect);
+    auto& k = result.intrinsics;
+    k.image_size = {o.width, o.height};
+    k.fx = double(m.projection(0, 0)) * o.width / 2.0;
+    k.fy = double(m.projection(1, 1)) * o.height / 2.0;
+    k.cx = o.width / 2.0 - 0.5;
+    k.cy = o.height / 2.0 - 0.5;
+    k.source = "rostro synth (exact: the renderer's projection)";
+  }
+
+  cv::Mat image, noise, blurred;
+  std::vector<Eigen::Vector3f> normals;
+  cv::Point2d previous_centre(std::numeric_limits<double>::quiet_NaN(), 0);
+  long done = 0;
+  for (const FapFrame& frame : drive.frames) {
+    const double t = static_cast<double>(done) / fps;
+    const double w = 2 * kPi * t / o.motion_period_s;
+    render::CameraPose pose = base;
+    pose.yaw_deg = o.yaw_deg * std::sin(w);
+    pose.pitch_deg = o.pitch_deg * std::sin(0.73 * w + phase_pitch);
+    pose.roll_deg = o.roll_deg * std::sin(0.57 * w + phase_roll);
+    pose.distance = base_distance * (1.0 + o.distance_amp * std::sin(0.41 * w + phase_dist));
+
+    face.render_into(frame, pose, image);
+    const Projector projector{render::frame_camera(pose, face.framing(), aspect), o.width,
+                              o.height};
+    const auto& positions = face.positions();
+    face.deformer().normals(positions, normals);
+
+    Occluder occ;
+    if (o.occluder && duration > 0) {
+      // Crosses from off the left edge to off the right edge between 35 % and 65 % of the clip.
+      const double s = (t / duration - 0.35) / 0.30;
+      if (s >= 0 && s <= 1) {
+        occ.active = true;
+        occ.axes = {0.09 * o.width, 0.16 * o.height};  // about a hand at this framing
+        occ.centre = {-occ.axes.width + s * (o.width + 2 * occ.axes.width), occluder_y * o.height};
+      }
+    }
+
+    tracking::TrackedFrame truth;
+    truth.frame = frame.index;
+    truth.time_s = t;
+    cv::Point2d centre_sum(0, 0);
+    int centre_count = 0;
+    for (const PaintedMarker& pm : markers) {
+      const auto v = static_cast<std::size_t>(pm.vertex);
+      tracking::MarkerObservation obs;
+      obs.marker = pm.spec->id;
+      obs.feature_point = pm.spec->feature_point;
+      obs.quality = 1.0;
+      const bool in_front = projector.project(positions[v], obs.position);
+      const Eigen::Vector3f to_eye = projector.m.eye - positions[v];
+      const bool facing = normals[v].dot(to_eye.normalized()) > 0.1f;
+      const bool inside = obs.position.x >= 0 && obs.position.y >= 0 &&
+                          obs.position.x <= o.width - 1 && obs.position.y <= o.height - 1;
+      obs.valid = in_front && facing && inside && !occ.covers(obs.position);
+      if (in_front && facing && inside) {
+        // The disc on the skin: a circle in the tangent plane, projected.
+        const Eigen::Vector3f n = normals[v].normalized();
+        Eigen::Vector3f u = n.cross(Eigen::Vector3f::UnitY());
+        if (u.norm() < 1e-3f) u = n.cross(Eigen::Vector3f::UnitX());
+        u.normalize();
+        const Eigen::Vector3f w2 = n.cross(u);
+        const auto r = static_cast<float>(o.dot_diameter_mm / 2.0);
+        std::vector<cv::Point> outline;
+        for (int k = 0; k < 24; ++k) {
+          const float angle = static_cast<float>(2 * kPi * k / 24);
+          cv::Point2d q;
+          if (!projector.project(positions[v] + r * (std::cos(angle) * u + std::sin(angle) * w2),
+                                 q))
+            continue;
+          outline.emplace_back(cvRound(q.x * 16), cvRound(q.y * 16));  // 4 fractional bits
+        }
+        const cv::Scalar ink = o.dark_dots ? cv::Scalar(25, 22, 22) : cv::Scalar(245, 245, 245);
+        if (outline.size() >= 3) cv::fillConvexPoly(image, outline, ink, cv::LINE_AA, 4);
+      }
+      if (in_front) {
+        centre_sum += obs.position;
+        ++centre_count;
+      }
+      truth.markers.push_back(std::move(obs));
+    }
+    result.truth.push_back(std::move(truth));
+
+    if (occ.active)
+      cv::ellipse(image, cv::Point(cvRound(occ.centre.x), cvRound(occ.centre.y)),
+                  cv::Size(cvRound(occ.axes.width), cvRound(occ.axes.height)), 15, 0, 360,
+                  cv::Scalar(120, 150, 200), cv::FILLED, cv::LINE_AA);
+
+    // Motion blur along the face's image motion since the last frame, centred on now.
+    const cv::Point2d centre = centre_count ? centre_sum / centre_count : previous_centre;
+    if (o.motion_blur > 0 && std::isfinite(previous_centre.x) && std::isfinite(centre.x)) {
+      const cv::Point2d motion = (centre - previous_centre) * o.motion_blur;
+      const int length = cvRound(cv::norm(motion));
+      if (length >= 2) {
+        const int size = 2 * (length / 2) + 1;
+        cv::Mat kernel = cv::Mat::zeros(size, size, CV_32F);
+        const cv::Point2d dir = motion / cv::norm(motion) * (size / 2.0);
+        const cv::Point2d mid(size / 2, size / 2);
+        cv::line(kernel, cv::Point(mid - dir), cv::Point(mid + dir), cv::Scalar(1.0), 1,
+                 cv::LINE_AA);
+        kernel /= cv::sum(kernel)[0];
+        cv::filter2D(image, blurred, -1, kernel);
+        std::swap(image, blurred);
+      }
+    }
+    previous_centre = centre;
+
+    const double gain =
+        o.brightness *
+        (1.0 - o.light_amp * (0.5 - 0.5 * std::cos(2 * kPi * t / 3.0 + phase_light)));
+    if (gain != 1.0 || o.noise_sigma > 0) {
+      image.convertTo(blurred, CV_32FC3, gain);
+      if (o.noise_sigma > 0) {
+        noise.create(image.size(), CV_32FC3);
+        rng.fill(noise, cv::RNG::NORMAL, 0.0, o.noise_sigma);
+        blurred += noise;
+      }
+      blurred.convertTo(image, CV_8UC3);  // saturates to 0..255
+    }
+    sink.write(image);
+    ++done;
+    if (progress) progress(done);
+  }
+  sink.finish();
+  return result;
+}
+
+}  // namespace rostro::eval

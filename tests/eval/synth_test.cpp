@@ -1,0 +1,75 @@
+#include "eval/synth.hpp"
+
+#include <gtest/gtest.h>
+
+#include "facecore/error.hpp"
+#include "render/render_error.hpp"
+
+namespace rostro::eval {
+namespace {
+
+// Keeps the frames in memory: the test looks at the pixels under the truth.
+class MemorySink : public render::FrameSink {
+ public:
+  void write(const cv::Mat& bgr) override { frames.push_back(bgr.clone()); }
+  void finish() override { finished = true; }
+  long frames_written() const override { return static_cast<long>(frames.size()); }
+  std::vector<cv::Mat> frames;
+  bool finished = false;
+};
+
+TEST(Synth, RangeOfMotionMovesTheJawFirst) {
+  const FapStream s = range_of_motion(25);
+  EXPECT_EQ(s.frames.size(), 200u);
+  EXPECT_NEAR(s.frames[12].get(3), 350, 2);  // the middle of the first second
+  EXPECT_EQ(s.frames[0].get(3), 0);
+  EXPECT_EQ(s.frames[37].get(3), 0);
+}
+
+TEST(Synth, TruthSitsOnTheDrawnDots) {
+  FaceModel model;
+  try {
+    model = load_default_face_model();
+  } catch (const InputError& e) {
+    GTEST_SKIP() << "no default head: " << e.what();
+  }
+  const auto layout = tracking::load_layout(tracking::default_layout_path());
+  const auto markers = place_markers(model, layout);
+  ASSERT_GE(markers.size(), 20u);
+  FapStream drive = range_of_motion(25);
+  drive.frames.resize(4);
+  SynthOptions o;
+  o.width = 320;
+  o.height = 240;
+  o.dot_diameter_mm = layout.dot_diameter_mm;
+  MemorySink sink;
+  SynthResult r;
+  try {
+    r = synthesize(model, nullptr, markers, drive, o, sink);
+  } catch (const render::RenderUnavailable& e) {
+    GTEST_SKIP() << "no OpenGL: " << e.what();
+  }
+  ASSERT_TRUE(sink.finished);
+  ASSERT_EQ(sink.frames.size(), 4u);
+  ASSERT_EQ(r.truth.size(), 4u);
+  EXPECT_NEAR(r.intrinsics.cx, 159.5, 1e-9);
+  EXPECT_GT(r.intrinsics.fx, 100.0);
+
+  int visible = 0, dark = 0;
+  cv::Point2d left_eye, right_eye;
+  for (const auto& m : r.truth[3].markers) {
+    if (m.feature_point.str() == "3.7") left_eye = m.position;
+    if (m.feature_point.str() == "3.12") right_eye = m.position;
+    if (!m.valid) continue;
+    ++visible;
+    const cv::Vec3b px = sink.frames[3].at<cv::Vec3b>(cvRound(m.position.y), cvRound(m.position.x));
+    if (px[0] + px[1] + px[2] < 3 * 80) ++dark;
+  }
+  EXPECT_GE(visible, 20);
+  EXPECT_EQ(dark, visible);  // every visible truth point lands on a dark dot
+  // The face's left eye is on the viewer's right in an unmirrored frontal view.
+  EXPECT_GT(left_eye.x, right_eye.x + 20);
+}
+
+}  // namespace
+}  // namespace rostro::eval
