@@ -1,0 +1,56 @@
+#pragma once
+// The drawing code both back ends share (offscreen EGL and the GLFW window): shaders for
+// per-vertex-colour skin shading, the mesh's GPU buffers, and one draw call per frame. Every
+// method needs a current OpenGL 3.3 core context; the owner makes it current first.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "render/camera.hpp"
+#include "render/render_mesh.hpp"
+
+namespace rostro::render {
+
+struct Shading {
+  std::array<float, 3> background{0.20f, 0.22f, 0.26f};
+  float ambient = 0.28f;
+  float key = 0.72f;       // main light, upper left of the camera
+  float fill = 0.22f;      // softer light from the right
+  float specular = 0.10f;  // skin sheen
+  float shininess = 24.0f;
+};
+
+class GlMeshDrawer {
+ public:
+  GlMeshDrawer();  // compiles the shaders; throws RenderUnavailable on failure
+  ~GlMeshDrawer();
+  GlMeshDrawer(const GlMeshDrawer&) = delete;
+  GlMeshDrawer& operator=(const GlMeshDrawer&) = delete;
+
+  // Uploads topology, colours and positions; throws std::invalid_argument for a bad mesh.
+  void set_mesh(const RenderMesh& mesh);
+  // New positions for the same vertices (x, y, z each); normals are recomputed.
+  void update_positions(std::span<const float> positions);
+  // Clears the bound framebuffer to the background and draws the mesh.
+  void draw(const CameraMatrices& camera, int width, int height, const Shading& shading);
+
+  const Bounds& mesh_bounds() const { return bounds_; }
+  std::size_t vertex_count() const { return vertex_count_; }
+
+ private:
+  unsigned program_ = 0;
+  unsigned vao_ = 0;
+  unsigned position_buffer_ = 0;
+  unsigned normal_buffer_ = 0;
+  unsigned color_buffer_ = 0;
+  unsigned index_buffer_ = 0;
+  std::size_t vertex_count_ = 0;
+  std::size_t index_count_ = 0;
+  std::vector<std::uint32_t> triangles_;
+  std::vector<float> normals_;
+  Bounds bounds_;
+};
+
+}  // namespace rostro::render
