@@ -2,7 +2,6 @@
 // Ctrl-C or a camera unplugged mid-take leaves a valid file of every frame so far. Wiring
 // only: capture -> tracking -> (calib when no profile) -> mapping -> facecore's .fap sink.
 
-#include <csignal>
 #include <cstdio>
 #include <deque>
 #include <memory>
@@ -10,6 +9,7 @@
 #include <string>
 
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "calib/actor_prior.hpp"
 #include "calib/camera_intrinsics.hpp"
@@ -24,11 +24,6 @@
 namespace rostro::app {
 
 namespace {
-
-volatile std::sig_atomic_t g_stop = 0;
-extern "C" void on_sigint(int) {
-  g_stop = 1;
-}
 
 struct CaptureArgs {
   std::string source, layout, actor, camera, output, tracks, method = "ceres", size = "1280x720";
@@ -112,14 +107,13 @@ void run_capture(const CaptureArgs& a) {
   std::unique_ptr<tracking::TracksWriter> tracks;
   if (!a.tracks.empty()) tracks = std::make_unique<tracking::TracksWriter>(a.tracks);
 
-  g_stop = 0;
-  auto previous = std::signal(SIGINT, on_sigint);
+  InterruptScope interrupt;
   Progress progress("capture", input.total());
   std::optional<std::string> failure;
   try {
     tracking::TrackedFrame f;
     long done = 0;
-    while (!g_stop) {
+    while (!interrupt.requested()) {
       if (!pending.empty()) {
         f = std::move(pending.front());
         pending.pop_front();
@@ -134,11 +128,10 @@ void run_capture(const CaptureArgs& a) {
     failure = e.what();  // a camera gone mid-take: keep every frame so far
   }
   progress.finish();
-  std::signal(SIGINT, previous);
   sink->finish();
   if (tracks) tracks->finish();
   std::printf("%s: %ld frames%s\n", a.output.c_str(), sink->frames_written(),
-              g_stop ? " (stopped by Ctrl-C)" : "");
+              interrupt.requested() ? " (stopped by Ctrl-C)" : "");
   if (failure)
     throw InputError(*failure + " (the " + std::to_string(sink->frames_written()) +
                      " frames before it are saved in " + a.output + ")");

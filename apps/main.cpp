@@ -21,6 +21,17 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "rostro " ROSTRO_VERSION);
   app.footer(kFooter);
   app.require_subcommand(1);
+  // In the order a user meets them: sources, tracking, capture, the head, speech, evaluation.
+  rostro::app::add_devices_commands(app);
+  rostro::app::add_track_commands(app);
+  rostro::app::add_calibrate_commands(app);
+  rostro::app::add_capture_commands(app);
+  rostro::app::add_live_commands(app);
+  rostro::app::add_head_commands(app);
+  rostro::app::add_play_commands(app);
+  rostro::app::add_speech_commands(app);
+  rostro::app::add_synth_commands(app);
+  rostro::app::add_eval_commands(app);
   rostro::app::add_fap_commands(app);
 
   try {

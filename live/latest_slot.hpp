@@ -3,6 +3,7 @@
 // replaces an item the consumer has not taken yet (counted as skipped), so a slow stage
 // never builds a queue and latency never grows.
 
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -29,6 +30,23 @@ class LatestSlot {
     std::optional<T> out = std::move(item_);
     item_.reset();
     return out;
+  }
+
+  // Like take(), but gives up after `timeout` (nullopt), so a consumer with other duties
+  // (a window's events) keeps going while nothing arrives. closed() tells the two apart.
+  template <typename Rep, typename Period>
+  std::optional<T> take_for(std::chrono::duration<Rep, Period> timeout) {
+    std::unique_lock lock(mutex_);
+    ready_.wait_for(lock, timeout, [&] { return item_.has_value() || closed_; });
+    std::optional<T> out = std::move(item_);
+    item_.reset();
+    return out;
+  }
+
+  // True once close() was called and nothing is left to take.
+  bool closed() const {
+    std::lock_guard lock(mutex_);
+    return closed_ && !item_;
   }
 
   // No more items: wakes the consumer, which drains what is left and then gets nullopt.
