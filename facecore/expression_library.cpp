@@ -8,6 +8,7 @@
 
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
+#include "facecore/json_file.hpp"
 
 namespace rostro {
 namespace {
@@ -20,16 +21,6 @@ constexpr std::array<std::string_view, kExpressionCount> kExpressionNames = {
 constexpr std::array<std::string_view, kVisemeCount> kVisemeNames = {
     "sil", "p_b_m", "f_v", "th_dh", "t_d", "k_g", "ch_jh_sh", "s_z",
     "n_l", "r",     "aa",  "eh",    "ih",  "oh",  "uh"};
-
-json read_json(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path.string() + ": cannot open");
-  try {
-    return json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw InputError(path.string() + ": not valid JSON: " + e.what());
-  }
-}
 
 // {"open_jaw": 300, "raise_l_cornerlip_o": 150, ...} -> a frame with those FAPs set.
 FapFrame fap_vector(const json& j, const std::string& context) {
@@ -60,7 +51,7 @@ void accumulate(FapFrame& target, const FapFrame& source, double scale, const Fa
 ExpressionLibrary ExpressionLibrary::load(const std::filesystem::path& expressions_json,
                                           const std::filesystem::path& visemes_json) {
   ExpressionLibrary lib;
-  const json e = read_json(expressions_json);
+  const json e = read_json_file(expressions_json, "the expression library");
   const std::string e_src = expressions_json.string();
   if (!e.contains("expressions") || !e["expressions"].is_object())
     throw InputError(e_src + ": expected an object 'expressions'");
@@ -71,7 +62,7 @@ ExpressionLibrary ExpressionLibrary::load(const std::filesystem::path& expressio
     lib.expressions_[static_cast<std::size_t>(i)] =
         fap_vector(e["expressions"][name], e_src + ": expression '" + name + "'");
   }
-  const json v = read_json(visemes_json);
+  const json v = read_json_file(visemes_json, "the viseme library");
   const std::string v_src = visemes_json.string();
   if (!v.contains("visemes") || !v["visemes"].is_array())
     throw InputError(v_src + ": expected an array 'visemes'");

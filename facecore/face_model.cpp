@@ -9,6 +9,7 @@
 #include "facecore/atomic_file.hpp"
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
+#include "facecore/json_file.hpp"
 #include "facecore/obj_io.hpp"
 
 namespace rostro {
@@ -219,14 +220,7 @@ void FaceModel::validate(const std::string& source) const {
 
 FaceModel load_face_model(const std::filesystem::path& description) {
   const std::string source = description.string();
-  std::ifstream in(description);
-  if (!in) throw InputError(source + ": cannot open the face model description");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw InputError(source + ": not valid JSON: " + e.what());
-  }
+  const json j = read_json_file(description, "the face model description");
   const DescriptionReader reader(source);
   if (!j.is_object()) reader.fail("expected a JSON object");
   if (j.contains("format") && j["format"] != kFormat)

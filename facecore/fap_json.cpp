@@ -5,12 +5,12 @@
 // Written as a stream; read whole (JSON is for interchange with other tools, not for
 // hour-long takes: use .fap or .csv for those).
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "facecore/atomic_file.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_formats.hpp"
+#include "facecore/json_file.hpp"
 
 namespace rostro {
 namespace {
@@ -20,14 +20,7 @@ using nlohmann::json;
 class JsonSource final : public FapSource {
  public:
   explicit JsonSource(const std::filesystem::path& path) : path_(path.string()) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path_ + ": cannot open");
-    json doc;
-    try {
-      doc = json::parse(in);
-    } catch (const json::parse_error& e) {
-      throw InputError(path_ + ": not valid JSON: " + e.what());
-    }
+    const json doc = read_json_file(path, "the FAP stream");
     try {
       if (doc.value("format", "") != "rostro-fap")
         throw InputError(path_ + ": expected \"format\": \"rostro-fap\"");

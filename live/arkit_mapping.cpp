@@ -8,6 +8,7 @@
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_table.hpp"
+#include "facecore/json_file.hpp"
 
 namespace rostro::live {
 
@@ -36,14 +37,7 @@ const std::array<const char*, kArkitShapeCount>& arkit_shape_names() {
 
 ArkitMapping ArkitMapping::load(const std::filesystem::path& path) {
   const std::string file = path.string();
-  std::ifstream in(path);
-  if (!in) throw InputError(file + ": cannot open the ARKit mapping");
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(file + ": not valid JSON: " + e.what());
-  }
+  const nlohmann::json doc = read_json_file(path, "the ARKit mapping");
   const std::set<std::string> known(arkit_shape_names().begin(), arkit_shape_names().end());
   std::set<std::string> seen;
   ArkitMapping mapping;

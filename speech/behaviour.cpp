@@ -9,6 +9,7 @@
 
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
+#include "facecore/json_file.hpp"
 
 namespace rostro::speech {
 namespace {
@@ -28,11 +29,9 @@ double draw_interval(std::mt19937_64& rng, double mean, double min, double shape
 }  // namespace
 
 BehaviourSettings BehaviourSettings::load(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(where(path.string(), 0, "cannot open the behaviour settings"));
+  const nlohmann::json j = read_json_file(path, "the behaviour settings");
   BehaviourSettings s;
   try {
-    const auto j = nlohmann::json::parse(in);
     const auto get = [](const nlohmann::json& o, const char* key, auto& value) {
       if (o.contains(key)) value = o.at(key).get<std::decay_t<decltype(value)>>();
     };

@@ -6,6 +6,7 @@
 
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
+#include "facecore/json_file.hpp"
 
 namespace rostro::speech {
 
@@ -18,14 +19,7 @@ FapVector low_level_vector(const FapFrame& frame) {
 KeyShapes::KeyShapes(const ExpressionLibrary& library, const std::filesystem::path& path) {
   for (int i = 0; i < kVisemeCount; ++i)
     visemes_[static_cast<std::size_t>(i)] = low_level_vector(library.viseme(i));
-  std::ifstream in(path);
-  if (!in) throw InputError(where(path.string(), 0, "cannot open the key shape file"));
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(where(path.string(), 0, std::string("invalid JSON: ") + e.what()));
-  }
+  const nlohmann::json j = read_json_file(path, "the key shape file");
   const auto id_of = [&](const std::string& name) {
     const auto id = find_fap(name);
     if (!id) throw InputError(where(path.string(), 0, "unknown FAP name '" + name + "'"));

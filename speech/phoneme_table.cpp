@@ -7,6 +7,7 @@
 
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
+#include "facecore/json_file.hpp"
 
 namespace rostro::speech {
 
@@ -23,14 +24,7 @@ std::string_view class_name(PhonemeClass cls) {
 }
 
 LanguageTable LanguageTable::load(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(where(path.string(), 0, "cannot open the phoneme table"));
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(where(path.string(), 0, std::string("invalid JSON: ") + e.what()));
-  }
+  const nlohmann::json j = read_json_file(path, "the phoneme table");
   const auto bad = [&](const std::string& what) {
     return InputError(where(path.string(), 0, what));
   };
