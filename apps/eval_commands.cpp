@@ -1,14 +1,19 @@
 // `rostro eval ...`: score tracks and FAP streams against ground truth, with reports and plots.
 
+#include <fmt/chrono.h>
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <sstream>
 
 #include "apps/commands.hpp"
+#include "apps/progress.hpp"
 #include "eval/eval_plots.hpp"
 #include "eval/report.hpp"
+#include "eval/suite.hpp"
 #include "eval/track_metrics.hpp"
 #include "eval/truth_tracks.hpp"
 #include "facecore/error.hpp"
@@ -153,6 +158,45 @@ void eval_faps(const FapsArgs& a) {
                 f.correlation ? fmt::format("{:.3f}", *f.correlation).c_str() : "n/a");
 }
 
+struct SuiteArgs {
+  std::string suite, layout, markdown, only;
+};
+
+void eval_suite(const SuiteArgs& a) {
+  require_extension(a.markdown, ".md", "--markdown");
+  const eval::SuiteDefinition suite = eval::load_suite(
+      a.suite.empty() ? eval::default_suite_path() : std::filesystem::path(a.suite));
+  std::vector<eval::SuiteScenario> chosen;
+  const auto wanted = split_commas(a.only);
+  for (const auto& s : suite.scenarios)
+    if (wanted.empty() || std::find(wanted.begin(), wanted.end(), s.name) != wanted.end())
+      chosen.push_back(s);
+  if (chosen.empty()) throw InputError("--only " + a.only + ": no scenario of that name");
+  const FaceModel model = load_default_face_model();
+  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const tracking::MarkerLayout layout = tracking::load_layout(
+      a.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(a.layout));
+
+  std::vector<eval::SuiteRow> rows;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    const auto& s = chosen[i];
+    Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
+                      std::lround(s.seconds * s.fps));
+    rows.push_back(eval::run_scenario(s, model, &library, layout,
+                                      [&](long done, long) { progress.update(done); }));
+    progress.finish();
+  }
+  std::fputs(eval::suite_table_text(rows).c_str(), stdout);
+  if (!a.markdown.empty()) {
+    const std::string body = fmt::format(
+        "Written by `rostro eval suite --markdown` (rostro {}) on {}.\n\n{}", ROSTRO_VERSION,
+        fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        eval::suite_table_markdown(rows));
+    eval::replace_markdown_section(a.markdown, "## Suite table", body);
+    std::printf("table written to %s (section \"Suite table\")\n", a.markdown.c_str());
+  }
+}
+
 }  // namespace
 
 void add_eval_commands(CLI::App& app) {
@@ -211,6 +255,18 @@ void add_eval_commands(CLI::App& app) {
       "Example:\n  rostro eval faps --truth clip.fap --est take.fap --plot curves.png --faps "
       "3,12,13");
   faps->callback([] { eval_faps(f); });
+
+  static SuiteArgs su;
+  CLI::App* suite = eval->add_subcommand(
+      "suite", "The standing accuracy suite: seeded synth clips tracked and scored, one table");
+  suite->add_option("--suite", su.suite, "suite definition (default data/eval/suite.json)");
+  suite->add_option("--layout", su.layout,
+                    "marker layout JSON (default data/layouts/default.json)");
+  suite->add_option("--only", su.only, "run only these scenarios, e.g. still,turns");
+  suite->add_option("--markdown", su.markdown,
+                    "write the table into this Markdown file's \"## Suite table\" section");
+  suite->footer("Example:\n  rostro eval suite --markdown docs/accuracy.md");
+  suite->callback([] { eval_suite(su); });
 }
 
 }  // namespace rostro::app

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "apps/commands.hpp"
@@ -47,7 +48,7 @@ void synth(SynthArgs a) {
   const auto painted = eval::place_markers(model, layout);
   a.o.dot_diameter_mm = layout.dot_diameter_mm;
   a.o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
-  if (painted.empty()) throw InputError("the layout has no dot on a feature point of the head");
+  if (painted.empty()) throw InputError("the layout has no marker that can be placed on the head");
 
   const std::string video = a.output + ".mp4";
   render::VideoOptions vo;
@@ -60,8 +61,10 @@ void synth(SynthArgs a) {
   tracking::write_tracks(a.output + ".truth.csv", r.truth);
   write_fap_stream(a.output + ".fap", drive);
   calib::write_intrinsics(a.output + ".intrinsics.yml", r.intrinsics);
-  std::printf("%s: %zu frames, %zu dot markers (%d tags not drawn)\n", video.c_str(),
-              drive.frames.size(), painted.size(), layout.tag_count());
+  const auto tags = std::count_if(painted.begin(), painted.end(),
+                                  [](const eval::PaintedMarker& m) { return m.spec->is_tag(); });
+  std::printf("%s: %zu frames, %zu dots and %ld AprilTags\n", video.c_str(), drive.frames.size(),
+              painted.size() - static_cast<std::size_t>(tags), static_cast<long>(tags));
   std::printf("%s.truth.csv, %s.fap, %s.intrinsics.yml\n", a.output.c_str(), a.output.c_str(),
               a.output.c_str());
 }

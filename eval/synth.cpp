@@ -2,14 +2,20 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <set>
 
+#include "calib/actor_calibration.hpp"
 #include "facecore/error.hpp"
 #include "render/camera.hpp"
 #include "render/face_renderer.hpp"
+#include "tracking/apriltag_detector.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -49,14 +55,148 @@ struct Occluder {
   }
 };
 
+// Area-weighted vertex normals of the neutral mesh.
+std::vector<Eigen::Vector3f> neutral_normals(const FaceModel& model) {
+  std::vector<Eigen::Vector3f> n(model.positions.size(), Eigen::Vector3f::Zero());
+  for (const Eigen::Vector3i& t : model.triangles) {
+    const auto a = static_cast<std::size_t>(t.x()), b = static_cast<std::size_t>(t.y()),
+               c = static_cast<std::size_t>(t.z());
+    const Eigen::Vector3f f =
+        (model.positions[b] - model.positions[a]).cross(model.positions[c] - model.positions[a]);
+    n[a] += f, n[b] += f, n[c] += f;
+  }
+  for (auto& v : n)
+    if (v.norm() > 0) v.normalize();
+  return n;
+}
+
+// The rigid motion (rotation, translation) taking the neutral anchors to their deformed
+// places: Kabsch. The anchors lie in no FAP region, so only the head rotation moves them.
+std::pair<Eigen::Matrix3f, Eigen::Vector3f> rigid_motion(
+    const std::vector<int>& anchors, const std::vector<Eigen::Vector3f>& neutral,
+    const std::vector<Eigen::Vector3f>& moved) {
+  Eigen::Vector3f a = Eigen::Vector3f::Zero(), b = Eigen::Vector3f::Zero();
+  for (int i : anchors) {
+    a += neutral[static_cast<std::size_t>(i)];
+    b += moved[static_cast<std::size_t>(i)];
+  }
+  a /= static_cast<float>(anchors.size());
+  b /= static_cast<float>(anchors.size());
+  Eigen::Matrix3f h = Eigen::Matrix3f::Zero();
+  for (int i : anchors)
+    h += (neutral[static_cast<std::size_t>(i)] - a) *
+         (moved[static_cast<std::size_t>(i)] - b).transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3f> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3f d = Eigen::Matrix3f::Identity();
+  if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) d(2, 2) = -1;
+  const Eigen::Matrix3f r = svd.matrixV() * d * svd.matrixU().transpose();
+  return {r, b - r * a};
+}
+
+// Draws a tag's printed pattern (black square and white border) with its black square's
+// corners at `corners` (libapriltag's order: bottom-left, bottom-right, top-right, top-left as
+// the tag is read).
+void draw_tag(cv::Mat& image, const tracking::MarkerSpec& spec,
+              const std::array<cv::Point2d, 4>& corners) {
+  const cv::Mat bits = tracking::apriltag_image(spec.family, spec.tag_id);
+  const int cell = 12;
+  cv::Mat big;
+  cv::resize(bits, big, {}, cell, cell, cv::INTER_NEAREST);
+  // Paper is not 255 and ink not 0: the renderer's skin sits in between.
+  big.convertTo(big, CV_8U, (235.0 - 30.0) / 255.0, 30.0);
+  cv::Mat tag;
+  cv::cvtColor(big, tag, cv::COLOR_GRAY2BGR);
+  const int black = tracking::apriltag_black_width(spec.family);
+  const double border = (bits.cols - black) / 2.0 * cell;
+  const double lo = border - 0.5, hi = border + black * cell - 0.5;
+  const std::vector<cv::Point2f> src = {{float(lo), float(hi)},
+                                        {float(hi), float(hi)},
+                                        {float(hi), float(lo)},
+                                        {float(lo), float(lo)}};
+  std::vector<cv::Point2f> dst;
+  for (const auto& c : corners) dst.emplace_back(c);
+  const cv::Mat h = cv::getPerspectiveTransform(src, dst);
+  // Only the tag's bounding box (its whole sheet, border included) is warped.
+  std::vector<cv::Point2f> sheet = {{-0.5f, -0.5f},
+                                    {float(tag.cols) - 0.5f, -0.5f},
+                                    {float(tag.cols) - 0.5f, float(tag.rows) - 0.5f},
+                                    {-0.5f, float(tag.rows) - 0.5f}},
+                           out;
+  cv::perspectiveTransform(sheet, out, h);
+  const cv::Rect box = cv::boundingRect(out) & cv::Rect(0, 0, image.cols, image.rows);
+  if (box.area() <= 0) return;
+  cv::Mat shift = (cv::Mat_<double>(3, 3) << 1, 0, -box.x, 0, 1, -box.y, 0, 0, 1);
+  cv::Mat roi = image(box);
+  cv::warpPerspective(tag, roi, shift * h, box.size(), cv::INTER_AREA, cv::BORDER_TRANSPARENT);
+}
+
 }  // namespace
 
 std::vector<PaintedMarker> place_markers(const FaceModel& model,
                                          const tracking::MarkerLayout& layout) {
   std::vector<PaintedMarker> placed;
   for (const tracking::MarkerSpec& spec : layout.markers)
-    if (!spec.is_tag() && model.has_feature_point(spec.feature_point))
-      placed.push_back({&spec, model.feature_points.at(spec.feature_point)});
+    if (!spec.is_tag() && model.has_feature_point(spec.feature_point)) {
+      PaintedMarker pm;
+      pm.spec = &spec;
+      pm.vertex = model.feature_points.at(spec.feature_point);
+      placed.push_back(std::move(pm));
+    }
+  if (layout.tag_count() == 0) return placed;
+
+  // The layout's frame onto the head: the fit calibration uses for headband tags.
+  std::vector<calib::NominalMarker> nominal;
+  for (const tracking::MarkerSpec& m : layout.markers)
+    nominal.push_back({m.id,
+                       m.is_tag() ? std::nullopt : std::optional<FeaturePointId>(m.feature_point),
+                       {m.position_mm.x, m.position_mm.y, m.position_mm.z}});
+  std::map<std::string, Eigen::Vector3d> on_head;
+  try {
+    on_head = calib::place_nominal_markers(nominal, model.feature_point_positions());
+  } catch (const InputError&) {
+    return placed;  // too few dots on feature points: the tags cannot be placed
+  }
+  const std::vector<Eigen::Vector3f> normals = neutral_normals(model);
+  // Vertices a FAP moves other than by turning the whole head.
+  std::set<int> moving;
+  for (const InfluenceRegion& r : model.regions)
+    moving.insert(r.vertices.begin(), r.vertices.end());
+  for (const RigidPart* p :
+       {&model.parts.left_eyeball, &model.parts.right_eyeball, &model.parts.upper_teeth,
+        &model.parts.lower_teeth, &model.parts.tongue, &model.parts.jaw})
+    moving.insert(p->vertices.begin(), p->vertices.end());
+
+  for (const tracking::MarkerSpec& spec : layout.markers) {
+    if (!spec.is_tag()) continue;
+    const Eigen::Vector3f wanted = on_head.at(spec.id).cast<float>();
+    // Snapped to the nearest outward-facing skin vertex (the headband lies on the skin).
+    int nearest = -1;
+    float best = std::numeric_limits<float>::max();
+    for (std::size_t i = 0; i < model.positions.size(); ++i) {
+      const float d = (model.positions[i] - wanted).squaredNorm();
+      if (d < best && normals[i].z() > 0) best = d, nearest = static_cast<int>(i);
+    }
+    if (nearest < 0) continue;
+    PaintedMarker pm;
+    pm.spec = &spec;
+    pm.centre = model.positions[static_cast<std::size_t>(nearest)];
+    pm.normal = normals[static_cast<std::size_t>(nearest)];
+    // Read upright: right is the viewer's right (+x) and up is +y, in the tangent plane,
+    // then the printed tag's own in-plane turn (counter-clockwise as seen).
+    Eigen::Vector3f right = Eigen::Vector3f::UnitY().cross(pm.normal).normalized();
+    Eigen::Vector3f up = pm.normal.cross(right);
+    const float a = static_cast<float>(spec.rotation_deg * kPi / 180);
+    pm.right = std::cos(a) * right + std::sin(a) * up;
+    pm.up = -std::sin(a) * right + std::cos(a) * up;
+    // Anchors: still vertices around the tag, the nearest first, widening until enough.
+    for (float radius = 40; pm.anchors.size() < 12 && radius < 400; radius *= 1.5f) {
+      pm.anchors.clear();
+      for (std::size_t i = 0; i < model.positions.size(); ++i)
+        if (!moving.count(static_cast<int>(i)) && (model.positions[i] - pm.centre).norm() < radius)
+          pm.anchors.push_back(static_cast<int>(i));
+    }
+    if (pm.anchors.size() >= 3) placed.push_back(std::move(pm));
+  }
   return placed;
 }
 
@@ -173,7 +313,34 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
     truth.time_s = t;
     cv::Point2d centre_sum(0, 0);
     int centre_count = 0;
+    std::vector<std::pair<const tracking::MarkerSpec*, std::array<cv::Point2d, 4>>> tags;
     for (const PaintedMarker& pm : markers) {
+      if (pm.spec->is_tag()) {
+        tracking::MarkerObservation obs;
+        obs.marker = pm.spec->id;
+        obs.quality = 1.0;
+        const auto [r, tr] = rigid_motion(pm.anchors, model.positions, positions);
+        const Eigen::Vector3f c = r * pm.centre + tr, right = r * pm.right, up = r * pm.up;
+        const Eigen::Vector3f n = r * pm.normal;
+        const float h = static_cast<float>(pm.spec->size_mm / 2);
+        // libapriltag's order: bottom-left, bottom-right, top-right, top-left.
+        const Eigen::Vector3f corner3[4] = {c - h * right - h * up, c + h * right - h * up,
+                                            c + h * right + h * up, c - h * right + h * up};
+        std::array<cv::Point2d, 4> corners;
+        bool in_front = projector.project(c, obs.position);
+        bool inside = true;
+        for (int q = 0; q < 4; ++q) {
+          in_front =
+              projector.project(corner3[q], corners[static_cast<std::size_t>(q)]) && in_front;
+          const cv::Point2d& p = corners[static_cast<std::size_t>(q)];
+          inside = inside && p.x >= 0 && p.y >= 0 && p.x <= o.width - 1 && p.y <= o.height - 1;
+        }
+        const bool facing = n.dot((projector.m.eye - c).normalized()) > 0.2f;
+        obs.valid = in_front && facing && inside && !occ.covers(obs.position);
+        if (in_front && facing) tags.emplace_back(pm.spec, corners);
+        truth.markers.push_back(std::move(obs));
+        continue;
+      }
       const auto v = static_cast<std::size_t>(pm.vertex);
       tracking::MarkerObservation obs;
       obs.marker = pm.spec->id;
@@ -211,6 +378,7 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
       }
       truth.markers.push_back(std::move(obs));
     }
+    for (const auto& [spec, corners] : tags) draw_tag(image, *spec, corners);
     result.truth.push_back(std::move(truth));
 
     if (occ.active)

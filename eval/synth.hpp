@@ -15,6 +15,7 @@
 // AprilTags of the layout are not drawn yet (the renderer has vertex colours, no textures);
 // their markers are left out of the clip and of the truth.
 
+#include <Eigen/Core>
 #include <functional>
 #include <vector>
 
@@ -49,11 +50,18 @@ struct SynthOptions {
 
 struct PaintedMarker {
   const tracking::MarkerSpec* spec = nullptr;
-  int vertex = -1;  // the feature point's vertex: the dot's centre
+  int vertex = -1;  // dots: the feature point's vertex, the dot's centre
+  // Tags: the neutral plane (centre, unit axes: right and up as the tag is read, normal out of
+  // the head) and the rigid vertices that carry it.
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  Eigen::Vector3f right = Eigen::Vector3f::UnitX(), up = Eigen::Vector3f::UnitY();
+  Eigen::Vector3f normal = Eigen::Vector3f::UnitZ();
+  std::vector<int> anchors;
 };
 
-// The layout's dots that sit on a feature point of `model`, with that point's vertex. Dots on
-// feature points the model lacks are left out.
+// The layout's dots that sit on a feature point of `model`, with that point's vertex, then its
+// AprilTags placed on the head (see above). Dots on feature points the model lacks are left
+// out.
 std::vector<PaintedMarker> place_markers(const FaceModel& model,
                                          const tracking::MarkerLayout& layout);
 

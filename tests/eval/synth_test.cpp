@@ -4,6 +4,7 @@
 
 #include "facecore/error.hpp"
 #include "render/render_error.hpp"
+#include "tracking/apriltag_detector.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -60,7 +61,7 @@ TEST(Synth, TruthSitsOnTheDrawnDots) {
   for (const auto& m : r.truth[3].markers) {
     if (m.feature_point.str() == "3.7") left_eye = m.position;
     if (m.feature_point.str() == "3.12") right_eye = m.position;
-    if (!m.valid) continue;
+    if (!m.valid || layout.find(m.marker)->is_tag()) continue;
     ++visible;
     const cv::Vec3b px = sink.frames[3].at<cv::Vec3b>(cvRound(m.position.y), cvRound(m.position.x));
     if (px[0] + px[1] + px[2] < 3 * 80) ++dark;
@@ -69,6 +70,49 @@ TEST(Synth, TruthSitsOnTheDrawnDots) {
   EXPECT_EQ(dark, visible);  // every visible truth point lands on a dark dot
   // The face's left eye is on the viewer's right in an unmirrored frontal view.
   EXPECT_GT(left_eye.x, right_eye.x + 20);
+}
+
+TEST(Synth, TagDetectorFindsTheDrawnTagsAtTheirTruth) {
+  FaceModel model;
+  try {
+    model = load_default_face_model();
+  } catch (const InputError& e) {
+    GTEST_SKIP() << "no default head: " << e.what();
+  }
+  const auto layout = tracking::load_layout(tracking::default_layout_path());
+  const auto markers = place_markers(model, layout);
+  int tags = 0;
+  for (const auto& m : markers) tags += m.spec->is_tag();
+  ASSERT_EQ(tags, layout.tag_count());
+  FapStream drive = range_of_motion(25);
+  drive.frames.resize(3);
+  SynthOptions o;
+  o.yaw_deg = 20;  // a turned head: the tags move and foreshorten with it
+  o.motion_period_s = 0.5;
+  MemorySink sink;
+  SynthResult r;
+  try {
+    r = synthesize(model, nullptr, markers, drive, o, sink);
+  } catch (const render::RenderUnavailable& e) {
+    GTEST_SKIP() << "no OpenGL: " << e.what();
+  }
+  tracking::AprilTagOptions full_resolution;
+  full_resolution.decimation = 1;  // the turned tags are small: about 3 px per bit cell
+  tracking::AprilTagDetector detector(full_resolution);
+  for (std::size_t f = 0; f < sink.frames.size(); ++f) {
+    const auto found = detector.detect(sink.frames[f]);
+    int checked = 0;
+    for (const auto& truth : r.truth[f].markers) {
+      if (!layout.find(truth.marker)->is_tag() || !truth.valid) continue;
+      auto it = std::find_if(found.begin(), found.end(), [&](const tracking::TagDetection& d) {
+        return d.marker_id() == truth.marker;
+      });
+      ASSERT_NE(it, found.end()) << "frame " << f << ": " << truth.marker << " not found";
+      EXPECT_LT(cv::norm(it->center - truth.position), 1.0) << truth.marker << " frame " << f;
+      ++checked;
+    }
+    EXPECT_GE(checked, 2) << "frame " << f;
+  }
 }
 
 }  // namespace
