@@ -10,6 +10,7 @@
 
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
+#include "facecore/json_file.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -57,14 +58,7 @@ bool natural_less(const std::string& a, const std::string& b) {
 
 IbugMapping read_ibug_mapping(const std::filesystem::path& path) {
   const std::string name = path.string();
-  std::ifstream in(path);
-  if (!in) throw InputError(name + ": cannot open the iBUG mapping");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(name + ": not valid JSON: " + e.what());
-  }
+  const nlohmann::json j = read_json_file(path, "the iBUG mapping");
   if (!j.is_object() || !j.contains("markers") || !j["markers"].is_array())
     throw InputError(name + ": expected an object with a \"markers\" array");
   const int base = j.value("index_base", 1);

@@ -12,6 +12,7 @@
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_io.hpp"
+#include "facecore/json_file.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace rostro::eval {
@@ -91,14 +92,7 @@ std::filesystem::path default_suite_path() {
 }
 
 SuiteDefinition load_suite(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path.string() + ": cannot open the suite file");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::exception& e) {
-    throw InputError(path.string() + ": not valid JSON (" + e.what() + ")");
-  }
+  const json j = read_json_file(path, "the suite file");
   if (!j.is_object() || !j.contains("scenarios") || !j["scenarios"].is_array() ||
       j["scenarios"].empty())
     throw InputError(path.string() + ": expected an object with a non-empty 'scenarios' array");
