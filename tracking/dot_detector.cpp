@@ -32,6 +32,59 @@ float border_median(const cv::Mat& patch) {
   return *mid;
 }
 
+// The blob connected to `peak` where the contrast is at least `threshold`.
+struct Extent {
+  cv::Mat region;  // 0/255, the patch's size
+  double area = 0;
+  double diameter = 0;  // equivalent-area
+  // Area over the area of the smallest ellipse of the blob's own orientation and aspect
+  // that holds it: a disc seen at an angle is an ellipse and as round as one seen square on.
+  double roundness = 0;
+  double elongation = 1;  // long axis / short axis
+  bool touches_edge = false;
+  cv::Point2d centre;
+};
+
+Extent extent_at(const cv::Mat& c, cv::Point peak, float threshold) {
+  Extent e;
+  cv::Mat above = c >= threshold;
+  cv::Mat region = cv::Mat::zeros(c.rows + 2, c.cols + 2, CV_8U);
+  cv::floodFill(above, region, peak, 255, nullptr, 0, 0, 4 | cv::FLOODFILL_MASK_ONLY | (255 << 8));
+  e.region = region(cv::Rect(1, 1, c.cols, c.rows)).clone();
+  e.area = cv::countNonZero(e.region);
+  if (e.area <= 0) return e;
+  const cv::Moments mo = cv::moments(e.region, true);
+  e.centre = {mo.m10 / mo.m00, mo.m01 / mo.m00};
+  // Principal axes of the blob (pixels as unit squares: + 1/12 each way).
+  const double sxx = mo.mu20 / mo.m00 + 1.0 / 12, syy = mo.mu02 / mo.m00 + 1.0 / 12,
+               sxy = mo.mu11 / mo.m00;
+  const double mean = (sxx + syy) / 2,
+               spread = std::sqrt((sxx - syy) * (sxx - syy) / 4 + sxy * sxy);
+  const double l1 = mean + spread, l2 = std::max(mean - spread, 1e-6);
+  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  const double ca = std::cos(angle), sa = std::sin(angle);
+  const double a = std::sqrt(l1), b = std::sqrt(l2);
+  e.elongation = a / b;
+  double far = 0;  // largest normalised ellipse radius of a pixel
+  for (int y = 0; y < e.region.rows; ++y) {
+    const uint8_t* r = e.region.ptr<uint8_t>(y);
+    for (int x = 0; x < e.region.cols; ++x) {
+      if (!r[x]) continue;
+      if (x == 0 || y == 0 || x == e.region.cols - 1 || y == e.region.rows - 1)
+        e.touches_edge = true;
+      const double dx = x - e.centre.x, dy = y - e.centre.y;
+      const double u = (ca * dx + sa * dy) / a, v = (-sa * dx + ca * dy) / b;
+      far = std::max(far, std::sqrt(u * u + v * v));
+    }
+  }
+  e.diameter = 2 * std::sqrt(e.area / kPi);
+  e.roundness = e.area / (kPi * (far * a + 0.5) * (far * b + 0.5));
+  return e;
+}
+
+// Shares of the peak contrast at which a dot's extent is measured, lowest first.
+constexpr double kExtentLevels[] = {0.5, 0.6, 0.7, 0.8, 0.9};
+
 }  // namespace
 
 std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double radius,
@@ -70,35 +123,45 @@ std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double rad
     }
   if (peak.x < 0 || peak_value < options.min_contrast) return std::nullopt;
 
-  // Its extent at half contrast: the pixels connected to the peak above half the peak.
-  cv::Mat above = c >= peak_value / 2;
-  cv::Mat region = cv::Mat::zeros(patch.rows + 2, patch.cols + 2, CV_8U);
-  cv::floodFill(above, region, peak, 255, nullptr, 0, 0, 4 | cv::FLOODFILL_MASK_ONLY | (255 << 8));
-  region = region(cv::Rect(1, 1, patch.cols, patch.rows));
-  const double area = cv::countNonZero(region);
-  if (area <= 0) return std::nullopt;
-  cv::Moments mo = cv::moments(region, true);
-  cv::Point2d centre(mo.m10 / mo.m00, mo.m01 / mo.m00);
-  double far2 = 0;
-  bool touches_edge = false;
-  for (int y = 0; y < region.rows; ++y) {
-    const uint8_t* r = region.ptr<uint8_t>(y);
-    for (int x = 0; x < region.cols; ++x) {
-      if (!r[x]) continue;
-      if (x == 0 || y == 0 || x == region.cols - 1 || y == region.rows - 1) touches_edge = true;
-      far2 = std::max(far2, (x - centre.x) * (x - centre.x) + (y - centre.y) * (y - centre.y));
+  // Its extent: the pixels connected to the peak above a share of the peak. Half is the
+  // dot's true edge on plain skin. A dot that touches a darker feature (an eyebrow, the
+  // iris, a nostril, the shadow under the chin) merges with it at half; those features are
+  // lighter than the dot's core, so at a higher share the dot stands alone. A lone dot's
+  // edge is steep: its size hardly changes with the share, where a merged blob's jumps.
+  // The lowest share whose blob is no wider than the core's plus its rim is the dot.
+  const Extent core = extent_at(c, peak, static_cast<float>(kExtentLevels[4] * peak_value));
+  if (core.area <= 0 || core.touches_edge) return std::nullopt;
+  const double rim = std::max(1.5, 0.2 * core.diameter);
+  Extent extent;
+  double share = 0;
+  for (double level : kExtentLevels) {
+    extent = level == kExtentLevels[4] ? core
+                                       : extent_at(c, peak, static_cast<float>(level * peak_value));
+    if (!extent.touches_edge && extent.diameter <= core.diameter + rim) {
+      share = level;
+      break;
     }
   }
-  const double diameter = 2 * std::sqrt(area / kPi);
-  if (touches_edge || diameter < options.min_diameter_px || diameter > options.max_diameter_px)
+  if (share == 0) return std::nullopt;
+  // Above half the blob is smaller than the dot: its rim (the anti-aliased edge, about a
+  // pixel wide) is added back so the reported size does not depend on the share.
+  const double diameter = share > kExtentLevels[0]
+                              ? extent.diameter + (share - kExtentLevels[0]) * 2.5
+                              : extent.diameter;
+  if (diameter < options.min_diameter_px || diameter > options.max_diameter_px ||
+      extent.roundness < options.min_roundness || extent.elongation > options.max_elongation)
     return std::nullopt;
-  const double enclosing = kPi * (std::sqrt(far2) + 0.5) * (std::sqrt(far2) + 0.5);
-  if (area / enclosing < options.min_roundness) return std::nullopt;
+  cv::Point2d centre = extent.centre;
 
   // Contrast-weighted centroid over a disc just wider than the dot, re-centred twice. The
   // small floor keeps background texture inside the disc from pulling the centre.
   const float floor = 0.15f * peak_value;
   const double disc = diameter / 2 + 2.0;
+  // Beside a darker feature only the dot's own blob and its rim count: the feature's pixels
+  // inside the disc would pull the centre toward it.
+  cv::Mat own;
+  if (share > kExtentLevels[0])
+    cv::dilate(extent.region, own, cv::getStructuringElement(cv::MORPH_CROSS, {3, 3}));
   for (int iteration = 0; iteration < 3; ++iteration) {
     double sw = 0, sx = 0, sy = 0;
     const int x0 = std::max(0, static_cast<int>(centre.x - disc));
@@ -110,6 +173,7 @@ std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double rad
       for (int x = x0; x <= x1; ++x) {
         const double dx = x - centre.x, dy = y - centre.y;
         if (dx * dx + dy * dy > disc * disc) continue;
+        if (!own.empty() && !own.at<uint8_t>(y, x)) continue;
         const double w = std::clamp(row[x] - floor, 0.0f, peak_value - floor);
         sw += w, sx += w * x, sy += w * y;
       }

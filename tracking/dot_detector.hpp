@@ -4,10 +4,10 @@
 //
 // Finding: the local background (a box mean a few dot-widths wide) minus the image (dark
 // dots) or the reverse (bright dots) is thresholded; connected blobs of a plausible area and
-// roundness are kept. Centre: the contrast-weighted centroid over a disc around the blob,
-// re-centred twice. For an anti-aliased disc on a flat background the weights are the
-// pixel coverage, whose centroid is the disc's centre, so the estimate has no bias from
-// the pixel grid.
+// roundness are kept; a dot touching a darker feature is measured at a higher share of its
+// contrast, where it stands alone. Centre: the contrast-weighted centroid over a disc around the
+// blob, re-centred twice. For an anti-aliased disc on a flat background the weights are the pixel
+// coverage, whose centroid is the disc's centre, so the estimate has no bias from the pixel grid.
 
 #include <opencv2/core.hpp>
 #include <optional>
@@ -21,8 +21,12 @@ struct DotOptions {
   DotPolarity polarity = DotPolarity::Dark;
   double min_diameter_px = 4;
   double max_diameter_px = 30;
-  double min_contrast = 20;     // grey levels between a dot's core and its surroundings
-  double min_roundness = 0.55;  // blob area / area of the enclosing circle
+  double min_contrast = 20;  // grey levels between a dot's core and its surroundings
+  // Blob area / area of the smallest ellipse of its own orientation and aspect holding it.
+  double min_roundness = 0.55;
+  // Long / short axis: a round dot on skin turned up to ~70 degrees from the camera (the chin
+  // seen from the front).
+  double max_elongation = 3;
 };
 
 struct Dot {
