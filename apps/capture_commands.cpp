@@ -2,6 +2,7 @@
 // Ctrl-C or a camera unplugged mid-take leaves a valid file of every frame so far. Wiring
 // only: capture -> tracking -> (calib when no profile) -> mapping -> facecore's .fap sink.
 
+#include <algorithm>
 #include <cstdio>
 #include <deque>
 #include <memory>
@@ -15,10 +16,16 @@
 #include "calib/camera_intrinsics.hpp"
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
+#include "facecore/expression_library.hpp"
+#include "facecore/face_model.hpp"
 #include "facecore/fap_io.hpp"
 #include "mapping/fap_mapper.hpp"
+#include "render/face_renderer.hpp"
+#include "render/preview.hpp"
+#include "render/video_writer.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
+#include "tracking/overlay.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
@@ -26,7 +33,8 @@ namespace rostro::app {
 namespace {
 
 struct CaptureArgs {
-  std::string source, layout, actor, camera, output, tracks, method = "ceres", size = "1280x720";
+  std::string source, layout, actor, camera, output, tracks, preview, method = "ceres",
+                                                                      size = "1280x720";
   bool no_hierarchy = false;
   double calibration_seconds = 1.0;
 };
@@ -49,13 +57,19 @@ class TrackedInput {
       total_ = source_->frame_count();
     }
   }
-  bool next(tracking::TrackedFrame& out) {
+  // `view`, when given, receives the camera image with the tracker's markers drawn on it.
+  bool next(tracking::TrackedFrame& out, cv::Mat* view = nullptr) {
     if (reader_) return reader_->next(out);
     auto frame = source_->next();
     if (!frame) return false;
     out = tracker_->track(frame->image, index_++, frame->timestamp_s);
+    if (view != nullptr) {
+      *view = frame->image.clone();
+      tracking::draw_overlay(*view, tracker_->states(), out.frame);
+    }
     return true;
   }
+  bool has_images() const { return source_ != nullptr; }
   cv::Size size() const { return size_; }
   double fps() const { return fps_ > 0 ? fps_ : 25.0; }
   long total() const { return total_ > 0 ? static_cast<long>(total_) : 0; }
@@ -70,6 +84,37 @@ class TrackedInput {
   long index_ = 0;
 };
 
+// The preview video: the camera image with markers beside the default head animated by the
+// FAPs of the same frame.
+class CapturePreview {
+ public:
+  CapturePreview(const std::string& path, double fps, int height)
+      : model_(load_default_face_model()),
+        library_(ExpressionLibrary::load_default()),
+        face_(model_, &library_, head_options(height)),
+        video_(path, video_options(fps)) {}
+  void write(const cv::Mat& camera, const FapFrame& faps) {
+    video_.write(render::compose_preview(camera, face_.render(faps, render::CameraPose::front())));
+  }
+  void finish() { video_.finish(); }
+
+ private:
+  static render::VideoOptions video_options(double fps) {
+    render::VideoOptions o;
+    o.fps = fps;
+    return o;
+  }
+  static render::RenderOptions head_options(int height) {
+    render::RenderOptions o;
+    o.width = o.height = (std::clamp(height, 240, 720) + 1) & ~1;
+    return o;
+  }
+  FaceModel model_;
+  ExpressionLibrary library_;
+  render::FaceRenderer face_;
+  render::VideoWriter video_;
+};
+
 void run_capture(const CaptureArgs& a) {
   const tracking::MarkerLayout layout = tracking::load_layout(a.layout);
   TrackedInput input(a, layout);
@@ -77,14 +122,24 @@ void run_capture(const CaptureArgs& a) {
   options.method = mapping::parse_method(a.method);
   if (!a.no_hierarchy) options.hierarchy = mapping::default_hierarchy();
 
+  if (!a.preview.empty() && !input.has_images())
+    throw InputError(
+        "--preview needs frames: give a video, image folder or camera, not a tracks CSV");
+  const bool want_views = !a.preview.empty();
   std::deque<tracking::TrackedFrame> pending;  // frames read for calibration, mapped after
+  std::deque<cv::Mat> pending_views;           // their preview images
   calib::ActorProfile profile;
   if (!a.actor.empty()) {
     profile = calib::read_actor_profile(a.actor);
   } else {
     const long wanted = std::max(1L, static_cast<long>(a.calibration_seconds * input.fps() + 0.5));
     tracking::TrackedFrame f;
-    while (static_cast<long>(pending.size()) < wanted && input.next(f)) pending.push_back(f);
+    cv::Mat view;
+    while (static_cast<long>(pending.size()) < wanted &&
+           input.next(f, want_views ? &view : nullptr)) {
+      pending.push_back(f);
+      if (want_views) pending_views.push_back(view);
+    }
     const calib::CameraIntrinsics camera = a.camera.empty()
                                                ? calib::default_intrinsics(input.size())
                                                : calib::read_intrinsics(a.camera);
@@ -106,22 +161,32 @@ void run_capture(const CaptureArgs& a) {
   auto sink = open_fap_sink(a.output, header);
   std::unique_ptr<tracking::TracksWriter> tracks;
   if (!a.tracks.empty()) tracks = std::make_unique<tracking::TracksWriter>(a.tracks);
+  std::unique_ptr<CapturePreview> preview;
+  if (want_views)
+    preview = std::make_unique<CapturePreview>(a.preview, input.fps(), input.size().height);
 
   InterruptScope interrupt;
   Progress progress("capture", input.total());
   std::optional<std::string> failure;
   try {
     tracking::TrackedFrame f;
+    cv::Mat view;
     long done = 0;
     while (!interrupt.requested()) {
       if (!pending.empty()) {
         f = std::move(pending.front());
         pending.pop_front();
-      } else if (!input.next(f)) {
+        if (want_views) {
+          view = std::move(pending_views.front());
+          pending_views.pop_front();
+        }
+      } else if (!input.next(f, want_views ? &view : nullptr)) {
         break;
       }
       if (tracks) tracks->write(f);
-      sink->write(mapper->map(f));
+      const FapFrame faps = mapper->map(f);
+      sink->write(faps);
+      if (preview) preview->write(view, faps);
       progress.update(++done);
     }
   } catch (const InputError& e) {
@@ -130,6 +195,7 @@ void run_capture(const CaptureArgs& a) {
   progress.finish();
   sink->finish();
   if (tracks) tracks->finish();
+  if (preview) preview->finish();
   std::printf("%s: %ld frames%s\n", a.output.c_str(), sink->frames_written(),
               interrupt.requested() ? " (stopped by Ctrl-C)" : "");
   if (failure)
@@ -152,6 +218,8 @@ void add_capture_commands(CLI::App& app) {
   cmd->add_option("--camera", a.camera, "Camera intrinsics (OpenCV FileStorage)");
   cmd->add_option("-o,--output", a.output, "Output .fap (or .csv/.json)")->required();
   cmd->add_option("--tracks", a.tracks, "Also write the tracks CSV here");
+  cmd->add_option("--preview", a.preview,
+                  "Also write an .mp4: the camera image with markers beside the animated head");
   cmd->add_option("--method", a.method,
                   "ceres (head pose + FAP fit) or seed2d (the seed's 2D baseline)")
       ->capture_default_str();

@@ -9,16 +9,18 @@
 #include <thread>
 
 #include "calib/actor_calibration.hpp"
+#include "calib/actor_prior.hpp"
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
 #include "facecore/face_model.hpp"
 #include "facecore/fap_io.hpp"
-#include "calib/actor_prior.hpp"
 #include "live/fap_udp_sender.hpp"
 #include "live/latest_slot.hpp"
 #include "render/face_renderer.hpp"
+#include "render/preview.hpp"
 #include "render/render_error.hpp"
 #include "tracking/marker_tracker.hpp"
+#include "tracking/overlay.hpp"
 
 namespace rostro::live {
 
@@ -329,29 +331,9 @@ void Pipeline::Impl::processing_loop() {
 
 // The camera image with markers (left), the head (right), figures and keys below.
 cv::Mat compose_view(const Shown& s, const cv::Mat& head, const std::vector<std::string>& lines) {
-  const int h = head.rows;
-  cv::Mat camera;
-  const double scale = static_cast<double>(h) / std::max(1, s.image.rows);
-  cv::resize(s.image, camera, cv::Size(std::max(1, static_cast<int>(s.image.cols * scale)), h));
-  for (const auto& m : s.tracked.markers) {
-    const cv::Point p(static_cast<int>(m.position.x * scale),
-                      static_cast<int>(m.position.y * scale));
-    if (m.valid)
-      cv::circle(camera, p, 4, {0, 220, 0}, 2, cv::LINE_AA);
-    else
-      cv::circle(camera, p, 6, {0, 0, 230}, 1, cv::LINE_AA);
-  }
-  const int line_height = 20;
-  cv::Mat view(h + line_height * static_cast<int>(lines.size()) + 8, camera.cols + head.cols,
-               CV_8UC3, cv::Scalar(24, 24, 24));
-  camera.copyTo(view(cv::Rect(0, 0, camera.cols, h)));
-  head.copyTo(view(cv::Rect(camera.cols, 0, head.cols, h)));
-  int y = h + line_height;
-  for (const auto& line : lines) {
-    cv::putText(view, line, {8, y}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {230, 230, 230}, 1, cv::LINE_AA);
-    y += line_height;
-  }
-  return view;
+  cv::Mat camera = s.image.clone();
+  tracking::draw_tracked_frame(camera, s.tracked);
+  return render::compose_preview(camera, head, lines);
 }
 
 void Pipeline::Impl::render_loop(LiveView* view) {

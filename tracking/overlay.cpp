@@ -37,4 +37,18 @@ void draw_overlay(cv::Mat& image, const std::vector<MarkerState>& states, long f
               cv::LINE_AA);
 }
 
+void draw_tracked_frame(cv::Mat& image, const TrackedFrame& frame) {
+  if (image.channels() == 1) cv::cvtColor(image, image, cv::COLOR_GRAY2BGR);
+  const int size = std::max(9, image.rows / 60);
+  for (const MarkerObservation& m : frame.markers) {
+    if (!std::isfinite(m.position.x) || !std::isfinite(m.position.y)) continue;
+    const cv::Point p(static_cast<int>(std::lround(m.position.x)),
+                      static_cast<int>(std::lround(m.position.y)));
+    if (m.valid)
+      cv::drawMarker(image, p, {60, 220, 60}, cv::MARKER_CROSS, size, 2, cv::LINE_AA);
+    else
+      cv::circle(image, p, size / 2 + 2, {40, 40, 230}, 2, cv::LINE_AA);
+  }
+}
+
 }  // namespace rostro::tracking

@@ -7,10 +7,15 @@
 #include <vector>
 
 #include "tracking/marker_tracker.hpp"
+#include "tracking/tracked_frame.hpp"
 
 namespace rostro::tracking {
 
 // `image` is 8-bit BGR (grey images are converted in place).
 void draw_overlay(cv::Mat& image, const std::vector<MarkerState>& states, long frame);
+
+// The same from a tracked frame alone (no tracker at hand, as in `rostro live`'s view):
+// a green cross where a marker is valid, a red ring where it is not.
+void draw_tracked_frame(cv::Mat& image, const TrackedFrame& frame);
 
 }  // namespace rostro::tracking
