@@ -166,14 +166,18 @@ TEST_F(LivePipeline, HeadlessClipSendsOneVmcSetPerFrameFollowingTheJaw) {
   std::filesystem::remove(o.record);
   o.log = [](const std::string&) {};
   PipelineReport report;
-  {
+  std::string error;
+  try {
     Pipeline pipeline(std::move(o));
     report = pipeline.run();
+  } catch (const std::exception& e) {
+    error = e.what();  // stop the receiver before failing, or its thread ends the process
   }
   done = true;
   receiver.join();
   lo_server_free(server);
   close(fap_socket);
+  ASSERT_TRUE(error.empty()) << "the pipeline failed: " << error;
 
   ASSERT_FALSE(report.failure) << *report.failure;
   const long total = kNeutralFrames + kMotionFrames + kTailFrames;
