@@ -200,22 +200,44 @@ std::vector<Dot> detect_dots(const cv::Mat& gray, const DotOptions& options, cv:
     cv::subtract(background, patch, contrast);  // saturates at 0
   else
     cv::subtract(patch, background, contrast);
-  cv::Mat mask = contrast >= options.min_contrast / 2;
-
-  cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
-  const double min_area = 0.4 * kPi * options.min_diameter_px * options.min_diameter_px / 4;
-  const double max_area = 1.5 * kPi * options.max_diameter_px * options.max_diameter_px / 4;
+  // Candidates: local maxima of the (lightly smoothed) contrast. Connected blobs of the
+  // thresholded contrast are no use on a face: a dot beside a shadow (the nose, the lips,
+  // the chin) merges with it into one large blob and would never be looked at.
+  cv::Mat smooth;
+  contrast.convertTo(smooth, CV_32F);
+  cv::GaussianBlur(smooth, smooth, {5, 5}, 1.0);
+  const int reach = std::max(3, static_cast<int>(options.min_diameter_px)) | 1;
+  cv::Mat peaks;
+  cv::dilate(smooth, peaks, cv::getStructuringElement(cv::MORPH_ELLIPSE, {reach, reach}));
+  struct Candidate {
+    float value;
+    cv::Point at;
+  };
+  std::vector<Candidate> candidates;
+  const float least = static_cast<float>(options.min_contrast) / 2;
+  for (int y = 0; y < smooth.rows; ++y) {
+    const float* s = smooth.ptr<float>(y);
+    const float* p = peaks.ptr<float>(y);
+    for (int x = 0; x < smooth.cols; ++x)
+      if (s[x] >= least && s[x] >= p[x]) candidates.push_back({s[x], {x, y}});
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.value > b.value; });
 
   std::vector<Dot> dots;
-  for (int i = 1; i < n; ++i) {
-    const int area = stats.at<int>(i, cv::CC_STAT_AREA);
-    const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
-    if (area < min_area || area > max_area) continue;
-    if (std::max(w, h) > 2.5 * std::min(w, h)) continue;
-    if (area < 0.4 * w * h) continue;
-    const cv::Point2d at(centroids.at<double>(i, 0) + roi.x, centroids.at<double>(i, 1) + roi.y);
-    auto dot = refine_dot(gray, at, std::max(2.0, std::max(w, h) / 2.0), options);
+  std::vector<cv::Point2d> tried;
+  for (const Candidate& c : candidates) {
+    const cv::Point2d at(c.at.x + roi.x, c.at.y + roi.y);
+    // A plateau gives several maxima; a dot already measured covers its own.
+    bool seen = false;
+    for (const Dot& d : dots)
+      if (cv::norm(d.center - at) < std::max(options.min_diameter_px / 2, d.diameter / 2 + 1))
+        seen = true;
+    for (const cv::Point2d& t : tried)
+      if (cv::norm(t - at) < 1.5) seen = true;
+    if (seen) continue;
+    tried.push_back(at);
+    auto dot = refine_dot(gray, at, std::max(2.0, options.min_diameter_px / 2), options);
     if (!dot) continue;
     bool duplicate = false;
     for (const Dot& d : dots)

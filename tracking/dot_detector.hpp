@@ -3,11 +3,13 @@
 // centre to a fraction of a pixel.
 //
 // Finding: the local background (a box mean a few dot-widths wide) minus the image (dark
-// dots) or the reverse (bright dots) is thresholded; connected blobs of a plausible area and
-// roundness are kept; a dot touching a darker feature is measured at a higher share of its
-// contrast, where it stands alone. Centre: the contrast-weighted centroid over a disc around the
-// blob, re-centred twice. For an anti-aliased disc on a flat background the weights are the pixel
-// coverage, whose centroid is the disc's centre, so the estimate has no bias from the pixel grid.
+// dots) or the reverse (bright dots) is smoothed, and each local maximum of it is measured
+// as below and kept when it passes the size, contrast and roundness checks (thresholded blobs
+// would merge a dot with the shadow beside it: the nose, the lips, the chin); a dot touching a
+// darker feature is measured at a higher share of its contrast, where it stands alone. Centre: the
+// contrast-weighted centroid over a disc around the blob, re-centred twice. For an anti-aliased
+// disc on a flat background the weights are the pixel coverage, whose centroid is the disc's
+// centre, so the estimate has no bias from the pixel grid.
 
 #include <opencv2/core.hpp>
 #include <optional>

@@ -122,21 +122,28 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     return at;
   };
 
+  // Starting guesses: the tags' similarity (when there are tags) and the dot cloud's centre
+  // and spread at a range of head rolls. The tags sit on the forehead, so a nod or a turn
+  // mispredicts the lower face by a whole dot spacing from them alone; the settled attempt
+  // matching the most dots, most closely, wins (tag corners stay in every refit).
   Attempt best;
+  best.matched = -1;
+  auto consider = [&](const cv::Matx23d& start) {
+    Attempt at = settle(start);
+    if (at.matched > best.matched || (at.matched == best.matched && at.residual < best.residual))
+      best = at;
+  };
   if (!from.empty()) {
     cv::Mat s = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
-    if (s.empty()) return id;
-    best = settle(cv::Matx23d(s));
-  } else {
-    if (dots.empty()) return id;
-    // No tags: the dot cloud's centre and spread, tried at a range of head rolls.
+    if (!s.empty()) consider(cv::Matx23d(s));
+  }
+  if (!dots.empty() && !layout_points.empty()) {
     std::vector<cv::Point2d> seen;
     for (const Dot& d : dots) seen.push_back(d.center);
     const cv::Matx23d upright = similarity_from_clouds(layout_points, seen);
     cv::Point2d centre(0, 0);
     for (const auto& p : seen) centre += p;
     centre *= 1.0 / static_cast<double>(seen.size());
-    best.matched = -1;
     for (int degrees = -40; degrees <= 40; degrees += 4) {
       const double a = degrees * std::numbers::pi / 180, c = std::cos(a), s = std::sin(a);
       const cv::Matx33d turn(c, -s, centre.x - c * centre.x + s * centre.y, s, c,
@@ -144,9 +151,36 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       const cv::Matx33d base(upright(0, 0), upright(0, 1), upright(0, 2), upright(1, 0),
                              upright(1, 1), upright(1, 2), 0, 0, 1);
       const cv::Matx33d m = turn * base;
-      Attempt at = settle(cv::Matx23d(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2)));
-      if (at.matched > best.matched || (at.matched == best.matched && at.residual < best.residual))
-        best = at;
+      consider(cv::Matx23d(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2)));
+    }
+  }
+  if (best.matched < 0) return id;
+
+  // A real face is not the layout's frontal plane: a dot left over after the fit (a
+  // cheekbone, where the face curves away) may take a leftover detection further out, up
+  // to nearly its spacing, when no other layout dot's place is nearer that detection.
+  {
+    const cv::Matx23d& m = best.mapping;
+    const double scale = std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
+    std::vector<cv::Point2d> projected;
+    for (const auto& p : layout_points) projected.push_back(apply(m, p));
+    std::vector<bool> taken(dots.size(), false);
+    for (int k : best.match)
+      if (k >= 0) taken[static_cast<size_t>(k)] = true;
+    for (size_t i = 0; i < layout_dots.size(); ++i) {
+      if (best.match[i] >= 0) continue;
+      int pick = -1;
+      double pick_distance = 0.8 * spacing[i] * scale;
+      for (size_t k = 0; k < dots.size(); ++k) {
+        if (taken[k]) continue;
+        const double d = cv::norm(dots[k].center - projected[i]);
+        if (d >= pick_distance) continue;
+        bool nearer_other = false;
+        for (size_t j = 0; j < projected.size(); ++j)
+          if (j != i && cv::norm(dots[k].center - projected[j]) < d) nearer_other = true;
+        if (!nearer_other) pick = static_cast<int>(k), pick_distance = d;
+      }
+      if (pick >= 0) best.match[i] = pick, taken[static_cast<size_t>(pick)] = true;
     }
   }
   id.layout_to_image = best.mapping;
