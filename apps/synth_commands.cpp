@@ -20,7 +20,7 @@ namespace {
 
 struct SynthArgs {
   std::string output, fap, layout, size = "640x480";
-  double fps = 25, seconds = 0;
+  double fps = 25, seconds = 0, neutral_lead = 0;
   eval::SynthOptions o;
 };
 
@@ -39,6 +39,7 @@ void synth(SynthArgs a) {
     const auto keep = static_cast<std::size_t>(std::lround(a.seconds * drive.header.fps));
     if (keep < drive.frames.size()) drive.frames.resize(keep);
   }
+  if (a.neutral_lead > 0) eval::prepend_neutral(drive, a.neutral_lead);
   drive.header.frame_count = static_cast<long>(drive.frames.size());
 
   const FaceModel model = load_default_face_model();
@@ -81,6 +82,8 @@ void add_synth_commands(CLI::App& app) {
   cmd->add_option("--fap", a.fap, "FAP stream driving the face (default: a range-of-motion clip)");
   cmd->add_option("--layout", a.layout, "marker layout JSON (default data/layouts/default.json)");
   cmd->add_option("--seconds", a.seconds, "cut the clip to this length");
+  cmd->add_option("--neutral-lead", a.neutral_lead,
+                  "seconds of neutral face before the motion, for calibration by rostro capture");
   cmd->add_option("--fps", a.fps, "frame rate of the range-of-motion clip")->capture_default_str();
   cmd->add_option("--size", a.size, "image size WIDTHxHEIGHT")->capture_default_str();
   cmd->add_option("--fov", a.o.fov_deg, "vertical field of view, degrees")->capture_default_str();

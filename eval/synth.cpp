@@ -425,4 +425,17 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
   return result;
 }
 
+void prepend_neutral(FapStream& stream, double seconds) {
+  const auto lead =
+      static_cast<std::size_t>(std::lround(std::max(0.0, seconds) * stream.header.fps));
+  std::vector<FapFrame> frames(lead);
+  frames.insert(frames.end(), stream.frames.begin(), stream.frames.end());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    frames[i].index = static_cast<long>(i);
+    frames[i].time_s = static_cast<double>(i) / stream.header.fps;
+  }
+  stream.frames = std::move(frames);
+  stream.header.frame_count = static_cast<long>(stream.frames.size());
+}
+
 }  // namespace rostro::eval

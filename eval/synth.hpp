@@ -69,6 +69,10 @@ std::vector<PaintedMarker> place_markers(const FaceModel& model,
 // each eased in and out over one second.
 FapStream range_of_motion(double fps);
 
+// Puts `seconds` of the neutral face (no FAP set) before the stream's frames and renumbers
+// them, so that a capture calibrating from the first second sees a neutral face there.
+void prepend_neutral(FapStream& stream, double seconds);
+
 struct SynthResult {
   std::vector<tracking::TrackedFrame> truth;
   calib::CameraIntrinsics intrinsics;
