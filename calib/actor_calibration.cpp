@@ -143,6 +143,9 @@ ActorProfile calibrate_actor(const std::vector<tracking::TrackedFrame>& frames,
     m.rigid = options.rigid_markers.count(s.marker) != 0 || !is_feature_point(s.fp);
     m.image = {median(s.x), median(s.y)};
     m.frames_seen = static_cast<int>(s.x.size());
+    if (options.motion && !m.rigid)
+      if (auto it = options.motion->find(m.feature_point); it != options.motion->end())
+        profile.marker_motion[m.marker] = it->second;
     profile.markers.push_back(std::move(m));
   }
   if (profile.markers.size() < 4)

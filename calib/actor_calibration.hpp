@@ -37,6 +37,9 @@ struct ActorCalibrationOptions {
   double facing_prior = 1.0;
   // Markers that only move with the skull: they constrain the pose and carry no FAPs.
   std::set<std::string> rigid_markers;
+  // The prior head's deformation at its feature points (see ActorProfile::marker_motion); null:
+  // FAPs move their own point along fap_axis(). Copied to every non-rigid marker on such a point.
+  const std::map<FeaturePointId, FapMotion>* motion = nullptr;
 };
 
 // A marker's nominal position as a layout gives it (any frame aligned with the prior's axes:

@@ -2,9 +2,11 @@
 // The 3D prior actor calibration starts from, and the layout's markers placed on it: shared
 // by `rostro calibrate actor`, `rostro capture` and `rostro live`.
 
+#include <map>
 #include <string>
 
 #include "calib/actor_calibration.hpp"
+#include "facecore/face_model.hpp"
 #include "facecore/fapu.hpp"
 #include "tracking/layout.hpp"
 
@@ -13,7 +15,15 @@ namespace rostro::calib {
 struct ActorPrior {
   FeaturePointPositions points;
   std::string name;  // says which prior was used, for the profile's notes
+  // The head's deformation at each feature point: FAP id -> displacement of one FAP unit in
+  // multiples of that FAP's FAPU (so it scales to any actor through the actor's FAPU). Empty
+  // for the generic face, which has no deformation model.
+  std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> motion;
 };
+
+// The linear deformation of `model` at its feature points, as ActorPrior::motion.
+std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> feature_point_motion(
+    const FaceModel& model);
 
 // The default head's feature points, or rostro's built-in generic face when no head loads.
 ActorPrior load_actor_prior();

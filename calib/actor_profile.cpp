@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 
 #include "facecore/atomic_file.hpp"
 #include "facecore/error.hpp"
@@ -125,6 +126,12 @@ std::string actor_profile_to_json(const ActorProfile& p) {
                {"frames_seen", m.frames_seen},
                {"rigid", m.rigid}};
     if (m.position) jm["position"] = {m.position->x(), m.position->y(), m.position->z()};
+    if (auto mo = p.marker_motion.find(m.marker); mo != p.marker_motion.end()) {
+      json motion = json::object();
+      for (const auto& [id, step] : mo->second)
+        motion[std::to_string(id)] = {step.x(), step.y(), step.z()};
+      jm["motion"] = std::move(motion);
+    }
     markers.push_back(std::move(jm));
   }
   j["markers"] = std::move(markers);
@@ -220,6 +227,23 @@ ActorProfile actor_profile_from_json(const std::string& text, const std::string&
     }
     if (!is_feature_point(m.feature_point) && !m.rigid)
       r.fail(field + "fp", "is empty but the marker is not rigid");
+    if (jm.contains("motion")) {
+      const json& motion = jm["motion"];
+      if (!motion.is_object()) r.fail(field + "motion", "must be an object of FAP id -> [x, y, z]");
+      for (const auto& [key, step] : motion.items()) {
+        int id = 0;
+        try {
+          std::size_t used = 0;
+          id = std::stoi(key, &used);
+          if (used != key.size()) id = 0;
+        } catch (const std::exception&) {
+          id = 0;
+        }
+        if (id < 3 || id > 68) r.fail(field + "motion." + key, "is not a low-level FAP id (3-68)");
+        auto v = r.numbers(step, 3, field + "motion." + key);
+        p.marker_motion[m.marker][id] = Eigen::Vector3d(v[0], v[1], v[2]);
+      }
+    }
     p.markers.push_back(std::move(m));
   }
 

@@ -29,6 +29,11 @@ struct NeutralMarker {
   bool rigid = false;   // moves only with the skull (headband tag): pose only
 };
 
+// How one unit of each FAP moves a marker, in multiples of that FAP's FAPU (head frame): the
+// prior head's own deformation at the marker's point, cross-effects included (open_jaw
+// carries the lower lip along). FAP id -> step.
+using FapMotion = std::map<int, Eigen::Vector3d>;
+
 // A correction applied to a mapped FAP: value * gain, then clamped to [min, max] where set.
 struct FapGain {
   double gain = 1.0;
@@ -49,6 +54,9 @@ struct ActorProfile {
   int neutral_frames = 0;
   std::vector<NeutralMarker> markers;
   std::map<int, FapGain> fap_gains;  // FAP id -> gain/range
+  // Marker id -> its FapMotion (JSON: the marker's "motion"). A marker without one: each FAP
+  // of its point moves it along fap_axis(), nothing else does.
+  std::map<std::string, FapMotion> marker_motion;
 
   const NeutralMarker* find_marker(const std::string& id) const;
   // Applies fap_gains to a FAP value of FAP `id`.

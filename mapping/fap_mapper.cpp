@@ -55,7 +55,9 @@ Method parse_method(const std::string& name) {
 std::unique_ptr<FapMapper> make_fap_mapper(const calib::ActorProfile& profile,
                                            const MapperOptions& options) {
   if (options.method == Method::Seed2d) return std::make_unique<Seed2dAdapter>(profile, options);
-  return std::make_unique<CeresMapper>(profile, options);
+  MapperOptions o = options;
+  if (o.hierarchy) o.solver.model.derived_rules = o.hierarchy->rules;
+  return std::make_unique<CeresMapper>(profile, o);
 }
 
 }  // namespace rostro::mapping

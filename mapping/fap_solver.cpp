@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <unordered_map>
+#include <vector>
 
 #include "facecore/error.hpp"
 
@@ -85,6 +86,48 @@ struct Residual3 : MarkerResidual<3> {
     return residual<T>(pose, f, r);
   }
 };
+
+// A marker moved by more FAPs (the head's deformation can couple many FAPs to one point, e.g.
+// the jaw and every lower-lip FAP to a lower-lip marker): parameter blocks pose, then one per FAP.
+struct ResidualMany {
+  const Observation* obs;
+  Eigen::Vector3d neutral;
+  std::vector<Eigen::Vector3d> steps;
+  Intrinsics k;
+
+  template <typename T>
+  bool operator()(T const* const* blocks, T* r) const {
+    if (!obs->active) {
+      r[0] = T(0);
+      r[1] = T(0);
+      return true;
+    }
+    const T* pose = blocks[0];
+    T x[3] = {T(neutral.x()), T(neutral.y()), T(neutral.z())};
+    for (std::size_t i = 0; i < steps.size(); ++i)
+      for (int a = 0; a < 3; ++a) x[a] += blocks[i + 1][0] * steps[i][a];
+    const T flipped[3] = {x[0], -x[1], -x[2]};
+    T c[3];
+    ceres::AngleAxisRotatePoint(pose, flipped, c);
+    c[0] += pose[3];
+    c[1] += pose[4];
+    c[2] += pose[5];
+    r[0] = k.fx * c[0] / c[2] + k.cx - obs->u;
+    r[1] = k.fy * c[1] / c[2] + k.cy - obs->v;
+    return true;
+  }
+};
+
+ceres::CostFunction* make_cost_many(const Observation* obs, const ModelMarker& m,
+                                    const Intrinsics& k) {
+  auto* f = new ResidualMany{obs, m.neutral, {}, k};
+  for (const FapStep& s : m.faps) f->steps.push_back(s.step);
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<ResidualMany, 8>(f);
+  cost->AddParameterBlock(6);
+  for (std::size_t i = 0; i < m.faps.size(); ++i) cost->AddParameterBlock(1);
+  cost->SetNumResiduals(2);
+  return cost;
+}
 
 // weight_i * (value_i - target_i) for every fitted FAP: the weak pull toward the previous
 // frame, one residual block (each FAP its own size-1 parameter block) with an analytic
@@ -217,7 +260,7 @@ struct FapSolver::Impl {
           cost = make_cost<3, Residual3>(&observations[i], m, k);
           break;
         default:
-          throw InputError("marker '" + m.marker + "': more than 3 FAPs move it");
+          cost = make_cost_many(&observations[i], m, k);
       }
       costs.emplace_back(cost);
       problem.AddResidualBlock(cost, loss.get(), blocks);
@@ -337,12 +380,12 @@ struct FapSolver::Impl {
     double sq = 0;
     for (std::size_t i : which) {
       double r[2];
-      const double* params[4] = {pose, nullptr, nullptr, nullptr};
       const ModelMarker& m = model.markers[i];
-      for (std::size_t f = 0; f < m.faps.size(); ++f)
-        params[f + 1] =
-            &values[static_cast<std::size_t>(fap_slot[static_cast<std::size_t>(m.faps[f].fap)])];
-      costs[i]->Evaluate(params, r, nullptr);
+      std::vector<const double*> params{pose};
+      for (const FapStep& f : m.faps)
+        params.push_back(
+            &values[static_cast<std::size_t>(fap_slot[static_cast<std::size_t>(f.fap)])]);
+      costs[i]->Evaluate(params.data(), r, nullptr);
       sq += r[0] * r[0] + r[1] * r[1];
     }
     result.rms_px = std::sqrt(sq / static_cast<double>(which.size()));

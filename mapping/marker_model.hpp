@@ -9,6 +9,7 @@
 
 #include "calib/actor_profile.hpp"
 #include "facecore/feature_point.hpp"
+#include "mapping/hierarchy.hpp"
 
 namespace rostro::mapping {
 
@@ -29,6 +30,11 @@ struct MarkerModelOptions {
   // to the hierarchy unless asked for.
   bool fit_depth_faps = false;
   std::set<int> excluded_faps;  // never fitted (their markers still constrain the pose)
+  // The hierarchy's rules that will derive unfitted FAPs from fitted ones (inner lip = outer
+  // lip, thrust_jaw = 0.5 x open_jaw, ...). With a profile's marker motion, a fitted FAP's
+  // step also carries the motion of the FAPs derived from it, so the fit explains the markers
+  // with the same face the hierarchy will write.
+  std::vector<HierarchyRule> derived_rules;
 };
 
 struct MarkerModel {
