@@ -67,14 +67,17 @@ TEST(Cli, GenerateInfoValidateConvert) {
   EXPECT_NE(info.output.find("open_jaw"), std::string::npos);
   EXPECT_EQ(rostro("fap validate " + fap).exit_code, 0);
   ASSERT_EQ(rostro("fap convert " + fap + " " + (dir / "g.csv").string()).exit_code, 0);
-  ASSERT_EQ(rostro("fap convert " + (dir / "g.csv").string() + " " + (dir / "g2.fap").string()).exit_code, 0);
+  ASSERT_EQ(
+      rostro("fap convert " + (dir / "g.csv").string() + " " + (dir / "g2.fap").string()).exit_code,
+      0);
   EXPECT_EQ(rostro("fap info " + (dir / "g2.fap").string()).output, info.output);
 }
 
 TEST(Cli, FailedConvertLeavesNoOutput) {
   const auto dir = scratch("failed-convert");
   std::ofstream(dir / "half.fap") << "2.1 x 25 3\n";
-  const CliRun run = rostro("fap convert " + (dir / "half.fap").string() + " " + (dir / "out.csv").string());
+  const CliRun run =
+      rostro("fap convert " + (dir / "half.fap").string() + " " + (dir / "out.csv").string());
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
   for (const auto& entry : std::filesystem::directory_iterator(dir))

@@ -55,7 +55,8 @@ TEST(FapConvert, MalformedCsvAndJsonAreNamed) {
   const auto dir = test::scratch_dir("fap-bad-conv");
   const auto csv = test::write_text(dir / "bad.csv", "frame,time_s\n0,0\n");
   EXPECT_NE(test::read_error(csv).find(":1:"), std::string::npos) << test::read_error(csv);
-  const auto json = test::write_text(dir / "bad.json", "{\"format\": \"rostro-fap\", \"fps\": 25, ");
+  const auto json =
+      test::write_text(dir / "bad.json", "{\"format\": \"rostro-fap\", \"fps\": 25, ");
   EXPECT_NE(test::read_error(json).find("not valid JSON"), std::string::npos);
   const auto unknown = test::write_text(
       dir / "unknown.json",

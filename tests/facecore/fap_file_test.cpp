@@ -9,10 +9,10 @@ namespace {
 
 TEST(FapFile, ReadsHeaderMaskAndValues) {
   const auto dir = test::scratch_dir("fapfile-read");
-  const auto path = test::write_text(
-      dir / "a.fap", "# a comment\n2.1 my_take 25 2\n" + test::mask_line({3, 48}) +
-                         "\n0 120 -500\n" + test::mask_line({1, 2, 19}) +
-                         "\n1 3 7 20 0 1 40 6 10 0 0 512\n");
+  const auto path =
+      test::write_text(dir / "a.fap", "# a comment\n2.1 my_take 25 2\n" + test::mask_line({3, 48}) +
+                                          "\n0 120 -500\n" + test::mask_line({1, 2, 19}) +
+                                          "\n1 3 7 20 0 1 40 6 10 0 0 512\n");
   const FapStream s = read_fap_stream(path);
   EXPECT_EQ(s.header.version, "2.1");
   EXPECT_EQ(s.header.name, "my_take");
@@ -31,9 +31,9 @@ TEST(FapFile, ReadsHeaderMaskAndValues) {
 
 TEST(FapFile, ToleratesCrlfTrailingSpacesCommentsAndPathNames) {
   const auto dir = test::scratch_dir("fapfile-tolerant");
-  const auto path = test::write_text(
-      dir / "b.fap", "2.1 C:\\Users\\x\\TempFile 30 1   \r\n#c\r\n\r\n" + test::mask_line({3}) +
-                         "  \r\n  0   42  \r\n");
+  const auto path =
+      test::write_text(dir / "b.fap", "2.1 C:\\Users\\x\\TempFile 30 1   \r\n#c\r\n\r\n" +
+                                          test::mask_line({3}) + "  \r\n  0   42  \r\n");
   const FapStream s = read_fap_stream(path);
   EXPECT_EQ(s.header.name, "C:\\Users\\x\\TempFile");
   EXPECT_DOUBLE_EQ(s.header.fps, 30);
@@ -85,7 +85,8 @@ TEST(FapFile, UnfinishedWriterLeavesNoFileAndKeepsTheOldOne) {
 TEST(FapFile, StreamingReaderHandsOutFramesOneByOne) {
   const auto dir = test::scratch_dir("fapfile-stream");
   std::string text = "2.1 s 25 100\n";
-  for (int i = 0; i < 100; ++i) text += test::mask_line({5}) + "\n" + std::to_string(i) + " " + std::to_string(i * 2) + "\n";
+  for (int i = 0; i < 100; ++i)
+    text += test::mask_line({5}) + "\n" + std::to_string(i) + " " + std::to_string(i * 2) + "\n";
   test::write_text(dir / "s.fap", text);
   auto source = open_fap_source(dir / "s.fap");
   FapFrame f;

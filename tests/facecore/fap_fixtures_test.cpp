@@ -56,7 +56,8 @@ TEST(XfaceFixtures, AllEightReadWithTheirCountsAndValues) {
       for (int id = 1; id <= kFapCount; ++id) {
         if (!frame.has(id)) continue;
         if (id == kVisemeFap) {
-          for (int v : {frame.viseme.select1, frame.viseme.select2, frame.viseme.blend, frame.viseme.def})
+          for (int v :
+               {frame.viseme.select1, frame.viseme.select2, frame.viseme.blend, frame.viseme.def})
             got.push_back(v);
         } else if (id == kExpressionFap) {
           const auto& e = frame.expression;
@@ -82,7 +83,8 @@ TEST(XfaceFixtures, RewriteGivesTheSameStream) {
     const FapStream copy = read_fap_stream(out / "copy.fap");
     EXPECT_EQ(copy.header.name, original.header.name);
     ASSERT_EQ(copy.frames.size(), original.frames.size());
-    for (std::size_t i = 0; i < copy.frames.size(); ++i) EXPECT_EQ(copy.frames[i], original.frames[i]);
+    for (std::size_t i = 0; i < copy.frames.size(); ++i)
+      EXPECT_EQ(copy.frames[i], original.frames[i]);
   }
 }
 

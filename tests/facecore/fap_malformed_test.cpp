@@ -25,7 +25,8 @@ std::vector<Case> cases() {
       {"header_fps", "2.1 name fast 1\n", ":1:", "fps"},
       {"header_count", "2.1 name 25 -3\n", ":1:", "frame count"},
       {"mask_length", "2.1 n 25 1\n0 1 0\n0\n", ":2:", "expected 68"},
-      {"mask_value", "2.1 n 25 1\n" + test::mask_line({3}).replace(0, 1, "2") + "\n0 5\n", ":2:", "expected 0 or 1"},
+      {"mask_value", "2.1 n 25 1\n" + test::mask_line({3}).replace(0, 1, "2") + "\n0 5\n",
+       ":2:", "expected 0 or 1"},
       {"value_count", "2.1 n 25 1\n" + m3 + "\n0 5 6\n", ":3:", "expected 2"},
       {"non_number", "2.1 n 25 1\n" + m3 + "\n0 abc\n", ":3:", "expected a number"},
       {"frame_number", "2.1 n 25 1\n" + m3 + "\nx 5\n", ":3:", "frame number"},
@@ -63,7 +64,8 @@ TEST(FapMalformed, ValidatorListsEveryProblem) {
 
 TEST(FapMalformed, ValidFileHasNoProblems) {
   const auto dir = test::scratch_dir("fap-valid");
-  const auto path = test::write_text(dir / "ok.fap", "2.1 n 25 1\n" + test::mask_line({3}) + "\n0 5\n");
+  const auto path =
+      test::write_text(dir / "ok.fap", "2.1 n 25 1\n" + test::mask_line({3}) + "\n0 5\n");
   EXPECT_TRUE(validate_fap_file(path).empty());
 }
 

@@ -1,10 +1,11 @@
+#include "facecore/fap_table.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <set>
 #include <sstream>
 
-#include "facecore/fap_table.hpp"
 #include "facecore/feature_point.hpp"
 #include "test_paths.hpp"
 
@@ -41,11 +42,11 @@ TEST(FapTable, UnitsMatchTheStandardGroups) {
 
 TEST(FapTable, AxesFollowThePositiveDirection) {
   using A = std::array<double, 3>;
-  EXPECT_EQ(fap_axis(fap_info(3)), (A{0, -1, 0}));   // open_jaw: down
-  EXPECT_EQ(fap_axis(fap_info(6)), (A{1, 0, 0}));    // stretch_l_cornerlip: left = +x
-  EXPECT_EQ(fap_axis(fap_info(7)), (A{-1, 0, 0}));   // stretch_r_cornerlip: right
-  EXPECT_EQ(fap_axis(fap_info(14)), (A{0, 0, 1}));   // thrust_jaw: forward
-  EXPECT_EQ(fap_axis(fap_info(48)), (A{0, 0, 0}));   // head_pitch is a rotation
+  EXPECT_EQ(fap_axis(fap_info(3)), (A{0, -1, 0}));  // open_jaw: down
+  EXPECT_EQ(fap_axis(fap_info(6)), (A{1, 0, 0}));   // stretch_l_cornerlip: left = +x
+  EXPECT_EQ(fap_axis(fap_info(7)), (A{-1, 0, 0}));  // stretch_r_cornerlip: right
+  EXPECT_EQ(fap_axis(fap_info(14)), (A{0, 0, 1}));  // thrust_jaw: forward
+  EXPECT_EQ(fap_axis(fap_info(48)), (A{0, 0, 0}));  // head_pitch is a rotation
 }
 
 TEST(FapTable, MatchesTheReferenceCsv) {

@@ -14,7 +14,8 @@
 
 namespace rostro::test {
 
-inline std::filesystem::path write_text(const std::filesystem::path& path, const std::string& text) {
+inline std::filesystem::path write_text(const std::filesystem::path& path,
+                                        const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }

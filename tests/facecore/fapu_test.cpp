@@ -1,7 +1,8 @@
+#include "facecore/fapu.hpp"
+
 #include <gtest/gtest.h>
 
 #include "facecore/error.hpp"
-#include "facecore/fapu.hpp"
 
 namespace rostro {
 namespace {

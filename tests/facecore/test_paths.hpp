@@ -8,7 +8,9 @@
 
 namespace rostro::test {
 
-inline std::filesystem::path shared_dir() { return ROSTRO_SHARED_DIR; }
+inline std::filesystem::path shared_dir() {
+  return ROSTRO_SHARED_DIR;
+}
 
 // The Xface fixtures folder, or an empty path when ../shared is absent (callers skip).
 inline std::filesystem::path xface_dir() {
