@@ -29,6 +29,20 @@ struct Intrinsics {
   double fx, fy, cx, cy;
 };
 
+// The reprojection error of a marker at `x` (face frame, y up, z out of the face) seen
+// through the head pose (angle-axis, translation; camera frame, y down, z forward).
+template <typename T>
+void project(const T* pose, const T* x, const Intrinsics& k, const Observation& obs, T* r) {
+  const T flipped[3] = {x[0], -x[1], -x[2]};
+  T c[3];
+  ceres::AngleAxisRotatePoint(pose, flipped, c);
+  c[0] += pose[3];
+  c[1] += pose[4];
+  c[2] += pose[5];
+  r[0] = k.fx * c[0] / c[2] + k.cx - obs.u;
+  r[1] = k.fy * c[1] / c[2] + k.cy - obs.v;
+}
+
 // Reprojection residual of one marker moved by N FAPs.
 template <int N>
 struct MarkerResidual {
@@ -47,14 +61,7 @@ struct MarkerResidual {
     T x[3] = {T(neutral.x()), T(neutral.y()), T(neutral.z())};
     for (int i = 0; i < N; ++i)
       for (int a = 0; a < 3; ++a) x[a] += faps[i][0] * steps[static_cast<std::size_t>(i)][a];
-    const T flipped[3] = {x[0], -x[1], -x[2]};
-    T c[3];
-    ceres::AngleAxisRotatePoint(pose, flipped, c);
-    c[0] += pose[3];
-    c[1] += pose[4];
-    c[2] += pose[5];
-    r[0] = k.fx * c[0] / c[2] + k.cx - obs->u;
-    r[1] = k.fy * c[1] / c[2] + k.cy - obs->v;
+    project(pose, x, k, *obs, r);
     return true;
   }
 };
@@ -106,14 +113,7 @@ struct ResidualMany {
     T x[3] = {T(neutral.x()), T(neutral.y()), T(neutral.z())};
     for (std::size_t i = 0; i < steps.size(); ++i)
       for (int a = 0; a < 3; ++a) x[a] += blocks[i + 1][0] * steps[i][a];
-    const T flipped[3] = {x[0], -x[1], -x[2]};
-    T c[3];
-    ceres::AngleAxisRotatePoint(pose, flipped, c);
-    c[0] += pose[3];
-    c[1] += pose[4];
-    c[2] += pose[5];
-    r[0] = k.fx * c[0] / c[2] + k.cx - obs->u;
-    r[1] = k.fy * c[1] / c[2] + k.cy - obs->v;
+    project(pose, x, k, *obs, r);
     return true;
   }
 };
