@@ -16,6 +16,7 @@
 #include "face_test_support.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_io.hpp"
+#include "output_test_support.hpp"
 #include "render/expression_clip.hpp"
 #include "render/fap_assignments.hpp"
 #include "render/fap_stream_source.hpp"
@@ -24,34 +25,11 @@
 namespace rostro::render {
 namespace {
 namespace fs = std::filesystem;
+using test::count_frames;
+using test::TempDir;
 
 const fs::path kFixtures = fs::path(ROSTRO_SHARED_DIR) / "fixtures" / "xface";
 const fs::path kRostro = fs::path(ROSTRO_BINARY_DIR) / "rostro";
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("rostro-play-test-" + std::to_string(::getpid()) + "-" + std::to_string(count_++));
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-  bool empty() const { return fs::directory_iterator(path_) == fs::directory_iterator(); }
-
- private:
-  fs::path path_;
-  static inline int count_ = 0;
-};
-
-int count_frames(const fs::path& video) {
-  cv::VideoCapture capture(video.string());
-  if (!capture.isOpened()) return -1;
-  int n = 0;
-  cv::Mat frame;
-  while (capture.read(frame)) ++n;
-  return n;
-}
 
 struct CommandResult {
   int exit_code;

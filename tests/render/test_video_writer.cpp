@@ -13,6 +13,7 @@
 #include <string>
 
 #include "facecore/error.hpp"
+#include "output_test_support.hpp"
 #include "render/contact_sheet.hpp"
 #include "render/frame_sink.hpp"
 #include "render/video_writer.hpp"
@@ -20,24 +21,8 @@
 namespace rostro::render {
 namespace {
 namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("rostro-render-test-" + std::to_string(::getpid()) + "-" + std::to_string(count_++));
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-  std::size_t entries() const {
-    return static_cast<std::size_t>(std::distance(fs::directory_iterator(path_), {}));
-  }
-
- private:
-  fs::path path_;
-  static inline int count_ = 0;
-};
+using test::count_frames;
+using test::TempDir;
 
 cv::Mat numbered_frame(int index, cv::Size size) {
   cv::Mat frame(size, CV_8UC3, cv::Scalar(40, 40, 40));
@@ -45,15 +30,6 @@ cv::Mat numbered_frame(int index, cv::Size size) {
   cv::rectangle(frame, cv::Rect(4 * index % (size.width - 8), 0, 8, size.height),
                 cv::Scalar(255, 255, 255), cv::FILLED);
   return frame;
-}
-
-int count_frames(const fs::path& video) {
-  cv::VideoCapture capture(video.string());
-  if (!capture.isOpened()) return -1;
-  int n = 0;
-  cv::Mat frame;
-  while (capture.read(frame)) ++n;
-  return n;
 }
 
 // A second of 16-bit mono silence at 16 kHz.
