@@ -792,8 +792,11 @@ FaceModel generate_head(const HeadOptions& options) {
     }
     return out;
   };
+  // Side labels the two edges of the eye slits as well as of the mouth; only the mouth's count
+  // here, or the lower eyelids would join the lower lip and the jaw.
   auto upper_of_mouth = [&](const V3& p, Side s) {
-    return s == Side::Upper || (s == Side::None && p.y() >= kMouthY - 1e-6);
+    const bool mouth_edge = s != Side::None && std::abs(p.y() - kMouthY) < 15;
+    return mouth_edge ? s == Side::Upper : p.y() >= kMouthY - 1e-6;
   };
   std::vector<InfluenceRegion> regions;
   std::vector<InfluenceRegion> sided;  // defined on the left, mirrored below

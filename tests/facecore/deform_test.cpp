@@ -246,6 +246,26 @@ TEST(Deformer, AFapMovesNothingOutsideItsRegions) {
   }
 }
 
+TEST(Deformer, MouthAndJawFapsLeaveTheEyesAlone) {
+  // The eye slits and the mouth both have upper and lower edges; a mouth region that took the
+  // lower eyelid for the lower lip would blink the actor whenever the jaw opens.
+  auto at = [](FeaturePointId p) {
+    return head().positions[static_cast<std::size_t>(head().feature_points.at(p))];
+  };
+  const Eigen::Vector3f pupils[] = {at({3, 5}), at({3, 6})};
+  for (int id = 3; id <= 60; ++id) {
+    const std::string_view group = fap_info(id).feature_point.substr(0, 2);
+    if (group != "2." && group != "8.") continue;
+    const auto moved = deform_one(id, test_value(fap_info(id)));
+    for (std::size_t v = 0; v < moved.size(); ++v) {
+      if (moved[v] == head().positions[v]) continue;
+      for (const Eigen::Vector3f& pupil : pupils)
+        ASSERT_GT((head().positions[v] - pupil).norm(), 25.0f)
+            << fap_info(id).name << " moved vertex " << v << " beside an eye";
+    }
+  }
+}
+
 TEST(Deformer, LinearMapMatchesDeform) {
   const Eigen::SparseMatrix<double> m = deformer().linear_map();
   ASSERT_EQ(m.rows(), static_cast<Eigen::Index>(3 * head().positions.size()));
