@@ -247,4 +247,38 @@ ActorProfile calibrate_actor(const std::vector<tracking::TrackedFrame>& frames,
   return profile;
 }
 
+ActorProfile recalibrate_focal(const ActorProfile& profile, double focal_px) {
+  CameraIntrinsics camera = profile.camera;
+  camera.fx = camera.fy = focal_px;
+  tracking::TrackedFrame neutral;
+  // The generic face fills the points no marker carries (the FAPU estimation asks for them);
+  // the FAPU themselves are kept from the first calibration below.
+  FeaturePointPositions shape = generic_face_points();
+  ActorCalibrationOptions o;
+  o.name = profile.name;
+  o.prior = &shape;
+  o.prior_name = "the profile's own shape";
+  for (const NeutralMarker& m : profile.markers) {
+    neutral.markers.push_back({m.marker, m.feature_point, m.image, true, 1.0});
+    if (m.rigid) o.rigid_markers.insert(m.marker);
+    if (!m.position) continue;
+    if (is_feature_point(m.feature_point))
+      shape[m.feature_point] = *m.position;
+    else
+      o.marker_priors[m.marker] = *m.position;
+  }
+  ActorProfile out = calibrate_actor({neutral}, camera, o);
+  out.fapu = profile.fapu;
+  out.fapu_notes = profile.fapu_notes;
+  out.fapu_image = profile.fapu_image;
+  out.fap_gains = profile.fap_gains;
+  out.marker_motion = profile.marker_motion;
+  out.neutral_frames = profile.neutral_frames;
+  for (NeutralMarker& m : out.markers)
+    if (const NeutralMarker* old = profile.find_marker(m.marker)) m.frames_seen = old->frames_seen;
+  out.shape_source = profile.shape_source + "; redone at f = " + std::to_string(focal_px) +
+                     " px (focal length refined from head turns)";
+  return out;
+}
+
 }  // namespace rostro::calib

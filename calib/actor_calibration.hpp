@@ -60,4 +60,10 @@ ActorProfile calibrate_actor(const std::vector<tracking::TrackedFrame>& neutral_
                              const CameraIntrinsics& camera,
                              const ActorCalibrationOptions& options = {});
 
+// The calibration redone at another focal length (fx = fy = focal_px), from what `profile`
+// keeps: its neutral image positions, and its own 3D shape as the prior (so the result is
+// the shape the first calibration would have made with that focal length). Gains, motion and
+// notes are kept; the camera's source is kept too (a refined default stays a default).
+ActorProfile recalibrate_focal(const ActorProfile& profile, double focal_px);
+
 }  // namespace rostro::calib

@@ -4,6 +4,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "calib/actor_calibration.hpp"
 #include "facecore/face_model.hpp"
@@ -19,7 +20,14 @@ struct ActorPrior {
   // multiples of that FAP's FAPU (so it scales to any actor through the actor's FAPU). Empty
   // for the generic face, which has no deformation model.
   std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> motion;
+  // The prior head's skin facing the camera (vertices whose normal points out of the face):
+  // where markers on no feature point (headband tags) are pressed onto it. Empty for the
+  // generic face, whose markers then keep the layout's nominal places.
+  std::vector<Eigen::Vector3d> skin;
 };
+
+// Vertices of `model` whose area-weighted normal points out of the face (+z).
+std::vector<Eigen::Vector3d> front_skin(const FaceModel& model);
 
 // The linear deformation of `model` at its feature points, as ActorPrior::motion.
 std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> feature_point_motion(

@@ -18,14 +18,22 @@ bool CameraIntrinsics::has_distortion() const {
   return false;
 }
 
+namespace {
+constexpr const char* kDefaultSource = "default:";
+}
+
+bool is_default_intrinsics(const CameraIntrinsics& k) {
+  return k.source.rfind(kDefaultSource, 0) == 0;
+}
+
 CameraIntrinsics default_intrinsics(cv::Size image_size) {
   CameraIntrinsics k;
   k.image_size = image_size;
   k.fx = k.fy = image_size.width;
   k.cx = image_size.width / 2.0;
   k.cy = image_size.height / 2.0;
-  k.source =
-      "default: f = image width (53 degree horizontal field of view), centred, no distortion";
+  k.source = std::string(kDefaultSource) +
+             " f = image width (53 degree horizontal field of view), centred, no distortion";
   return k;
 }
 

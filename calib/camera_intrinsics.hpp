@@ -24,6 +24,8 @@ struct CameraIntrinsics {
 // the image centre, focal length equal to the image width (a horizontal field of view of
 // 2 atan(1/2) = 53 degrees, typical of webcams and phone main cameras), no distortion.
 CameraIntrinsics default_intrinsics(cv::Size image_size);
+// True for intrinsics made by default_intrinsics() (their focal length is a guess).
+bool is_default_intrinsics(const CameraIntrinsics& intrinsics);
 
 // Throws InputError naming the file and the missing or malformed node.
 CameraIntrinsics read_intrinsics(const std::filesystem::path& path);

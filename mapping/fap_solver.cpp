@@ -3,6 +3,8 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <unordered_map>
@@ -29,145 +31,136 @@ struct Intrinsics {
   double fx, fy, cx, cy;
 };
 
-// The reprojection error of a marker at `x` (face frame, y up, z out of the face) seen
-// through the head pose (angle-axis, translation; camera frame, y down, z forward).
-template <typename T>
-void project(const T* pose, const T* x, const Intrinsics& k, const Observation& obs, T* r) {
-  const T flipped[3] = {x[0], -x[1], -x[2]};
-  T c[3];
-  ceres::AngleAxisRotatePoint(pose, flipped, c);
-  c[0] += pose[3];
-  c[1] += pose[4];
-  c[2] += pose[5];
-  r[0] = k.fx * c[0] / c[2] + k.cx - obs.u;
-  r[1] = k.fy * c[1] / c[2] + k.cy - obs.v;
-}
+// The reprojection error of one marker, with an analytic Jacobian over the one parameter
+// block the fit has: [angle-axis (3), translation (3), every fitted FAP]. The marker sits at
+// x = neutral + sum_k value_k step_k (face frame, y up, z out of the face) and is seen through
+// X_cam = R(aa) F x + t (camera frame, y down, z forward). One block and hand-written
+// derivatives: automatic differentiation over a block per FAP cost more than the arithmetic
+// (the lower lip moves with up to a dozen FAPs), and Ceres' bookkeeping grows with the blocks.
+class MarkerResidual : public ceres::CostFunction {
+ public:
+  MarkerResidual(const Observation* obs, const ModelMarker& m, const std::vector<int>& fap_slot,
+                 const Intrinsics* k, int parameters)
+      : obs_(obs), neutral_(m.neutral), k_(k) {
+    for (const FapStep& s : m.faps)
+      steps_.push_back({6 + fap_slot[static_cast<std::size_t>(s.fap)], s.step});
+    set_num_residuals(2);
+    mutable_parameter_block_sizes()->push_back(parameters);
+  }
 
-// Reprojection residual of one marker moved by N FAPs.
-template <int N>
-struct MarkerResidual {
-  const Observation* obs;
-  Eigen::Vector3d neutral;
-  std::array<Eigen::Vector3d, N> steps;
-  Intrinsics k;
-
-  template <typename T>
-  bool residual(const T* pose, const T* const* faps, T* r) const {
-    if (!obs->active) {
-      r[0] = T(0);
-      r[1] = T(0);
+  bool Evaluate(double const* const* values, double* r, double** jacobians) const override {
+    const double* p = values[0];
+    double* J = jacobians ? jacobians[0] : nullptr;
+    const int n = parameter_block_sizes()[0];
+    if (J) std::fill(J, J + 2 * n, 0.0);
+    if (!obs_->active) {
+      r[0] = r[1] = 0.0;
       return true;
     }
-    T x[3] = {T(neutral.x()), T(neutral.y()), T(neutral.z())};
-    for (int i = 0; i < N; ++i)
-      for (int a = 0; a < 3; ++a) x[a] += faps[i][0] * steps[static_cast<std::size_t>(i)][a];
-    project(pose, x, k, *obs, r);
-    return true;
-  }
-};
-
-struct Residual0 : MarkerResidual<0> {
-  template <typename T>
-  bool operator()(const T* pose, T* r) const {
-    return residual<T>(pose, nullptr, r);
-  }
-};
-struct Residual1 : MarkerResidual<1> {
-  template <typename T>
-  bool operator()(const T* pose, const T* f0, T* r) const {
-    const T* f[] = {f0};
-    return residual<T>(pose, f, r);
-  }
-};
-struct Residual2 : MarkerResidual<2> {
-  template <typename T>
-  bool operator()(const T* pose, const T* f0, const T* f1, T* r) const {
-    const T* f[] = {f0, f1};
-    return residual<T>(pose, f, r);
-  }
-};
-struct Residual3 : MarkerResidual<3> {
-  template <typename T>
-  bool operator()(const T* pose, const T* f0, const T* f1, const T* f2, T* r) const {
-    const T* f[] = {f0, f1, f2};
-    return residual<T>(pose, f, r);
-  }
-};
-
-// A marker moved by more FAPs (the head's deformation can couple many FAPs to one point, e.g.
-// the jaw and every lower-lip FAP to a lower-lip marker): parameter blocks pose, then one per FAP.
-struct ResidualMany {
-  const Observation* obs;
-  Eigen::Vector3d neutral;
-  std::vector<Eigen::Vector3d> steps;
-  Intrinsics k;
-
-  template <typename T>
-  bool operator()(T const* const* blocks, T* r) const {
-    if (!obs->active) {
-      r[0] = T(0);
-      r[1] = T(0);
-      return true;
+    Eigen::Vector3d x = neutral_;
+    for (const Step& s : steps_) x += p[s.column] * s.step;
+    const Eigen::Vector3d y(x.x(), -x.y(), -x.z());  // F x
+    // R(aa) y and its derivative in aa, from dual numbers over the three rotation parameters.
+    using Jet = ceres::Jet<double, 3>;
+    const Jet aa[3] = {Jet(p[0], 0), Jet(p[1], 1), Jet(p[2], 2)};
+    const Jet yj[3] = {Jet(y.x()), Jet(y.y()), Jet(y.z())};
+    Jet rotated[3];
+    ceres::AngleAxisRotatePoint(aa, yj, rotated);
+    const Eigen::Vector3d c(rotated[0].a + p[3], rotated[1].a + p[4], rotated[2].a + p[5]);
+    const double iz = 1.0 / c.z();
+    const Intrinsics& k = *k_;
+    r[0] = k.fx * c.x() * iz + k.cx - obs_->u;
+    r[1] = k.fy * c.y() * iz + k.cy - obs_->v;
+    if (!J) return true;
+    // d r / d c (2 x 3).
+    const double a0 = k.fx * iz, a2 = -k.fx * c.x() * iz * iz;
+    const double b1 = k.fy * iz, b2 = -k.fy * c.y() * iz * iz;
+    double* J0 = J;      // row 0
+    double* J1 = J + n;  // row 1
+    for (int i = 0; i < 3; ++i) {
+      J0[i] = a0 * rotated[0].v[i] + a2 * rotated[2].v[i];
+      J1[i] = b1 * rotated[1].v[i] + b2 * rotated[2].v[i];
     }
-    const T* pose = blocks[0];
-    T x[3] = {T(neutral.x()), T(neutral.y()), T(neutral.z())};
-    for (std::size_t i = 0; i < steps.size(); ++i)
-      for (int a = 0; a < 3; ++a) x[a] += blocks[i + 1][0] * steps[i][a];
-    project(pose, x, k, *obs, r);
+    J0[3] = a0;
+    J0[5] = a2;
+    J1[4] = b1;
+    J1[5] = b2;
+    if (steps_.empty()) return true;
+    // d c / d x = R F: rotate each step (F applied) with the rotation's value part.
+    double R[9];
+    ceres::AngleAxisToRotationMatrix(p, ceres::RowMajorAdapter3x3(R));
+    for (const Step& s : steps_) {
+      const Eigen::Vector3d d(s.step.x(), -s.step.y(), -s.step.z());
+      const double d0 = R[0] * d.x() + R[1] * d.y() + R[2] * d.z();
+      const double d1 = R[3] * d.x() + R[4] * d.y() + R[5] * d.z();
+      const double d2 = R[6] * d.x() + R[7] * d.y() + R[8] * d.z();
+      J0[s.column] += a0 * d0 + a2 * d2;
+      J1[s.column] += b1 * d1 + b2 * d2;
+    }
     return true;
   }
-};
 
-ceres::CostFunction* make_cost_many(const Observation* obs, const ModelMarker& m,
-                                    const Intrinsics& k) {
-  auto* f = new ResidualMany{obs, m.neutral, {}, k};
-  for (const FapStep& s : m.faps) f->steps.push_back(s.step);
-  auto* cost = new ceres::DynamicAutoDiffCostFunction<ResidualMany, 8>(f);
-  cost->AddParameterBlock(6);
-  for (std::size_t i = 0; i < m.faps.size(); ++i) cost->AddParameterBlock(1);
-  cost->SetNumResiduals(2);
-  return cost;
-}
+  // The change of the residual (2) per unit move of the marker's neutral position along v
+  // (head frame): d r / d c  R(aa) F v.
+  void along(const double* p, const Eigen::Vector3d& v, double* out) const {
+    double R[9];
+    ceres::AngleAxisToRotationMatrix(p, ceres::RowMajorAdapter3x3(R));
+    Eigen::Vector3d x = neutral_;
+    for (const Step& s : steps_) x += p[s.column] * s.step;
+    const Eigen::Vector3d y(x.x(), -x.y(), -x.z()), d(v.x(), -v.y(), -v.z());
+    Eigen::Vector3d c, dc;
+    for (int i = 0; i < 3; ++i) {
+      c[i] = R[3 * i] * y.x() + R[3 * i + 1] * y.y() + R[3 * i + 2] * y.z() + p[3 + i];
+      dc[i] = R[3 * i] * d.x() + R[3 * i + 1] * d.y() + R[3 * i + 2] * d.z();
+    }
+    const double iz = 1.0 / c.z();
+    out[0] = k_->fx * iz * (dc.x() - c.x() * iz * dc.z());
+    out[1] = k_->fy * iz * (dc.y() - c.y() * iz * dc.z());
+  }
+  void move_neutral(const Eigen::Vector3d& by) { neutral_ += by; }
+
+ private:
+  struct Step {
+    int column;  // in the parameter block
+    Eigen::Vector3d step;
+  };
+  const Observation* obs_;
+  Eigen::Vector3d neutral_;
+  std::vector<Step> steps_;
+  const Intrinsics* k_;  // the solver's: the focal length may be refined as frames come
+};
 
 // weight_i * (value_i - target_i) for every fitted FAP: the weak pull toward the previous
-// frame, one residual block (each FAP its own size-1 parameter block) with an analytic
-// Jacobian, since a block per FAP costs the solver's bookkeeping more than the arithmetic.
+// frame, as one residual block over the FAP part of the parameter block.
 class PriorResiduals : public ceres::CostFunction {
  public:
-  PriorResiduals(const std::vector<double>* targets, std::vector<double> weights)
-      : targets_(targets), weights_(std::move(weights)) {
+  PriorResiduals(const std::vector<double>* targets, const std::vector<double>* gains,
+                 std::vector<double> weights, int parameters)
+      : targets_(targets), gains_(gains), weights_(std::move(weights)) {
     set_num_residuals(static_cast<int>(weights_.size()));
-    for (std::size_t i = 0; i < weights_.size(); ++i) mutable_parameter_block_sizes()->push_back(1);
+    mutable_parameter_block_sizes()->push_back(parameters);
   }
   bool Evaluate(double const* const* values, double* residuals, double** jacobians) const override {
     const std::size_t n = weights_.size();
+    const auto cols = static_cast<std::size_t>(parameter_block_sizes()[0]);
     for (std::size_t i = 0; i < n; ++i)
-      residuals[i] = weights_[i] * (values[i][0] - (*targets_)[i]);
-    if (jacobians)
+      residuals[i] = (*gains_)[i] * weights_[i] * (values[0][6 + i] - (*targets_)[i]);
+    if (jacobians && jacobians[0]) {
+      std::fill(jacobians[0], jacobians[0] + n * cols, 0.0);
       for (std::size_t i = 0; i < n; ++i)
-        if (jacobians[i])
-          for (std::size_t r = 0; r < n; ++r) jacobians[i][r] = r == i ? weights_[i] : 0.0;
+        jacobians[0][i * cols + 6 + i] = (*gains_)[i] * weights_[i];
+    }
     return true;
   }
 
  private:
   const std::vector<double>* targets_;
+  const std::vector<double>* gains_;
   std::vector<double> weights_;
 };
 
-template <int N, typename Functor>
-ceres::CostFunction* make_cost(const Observation* obs, const ModelMarker& m, const Intrinsics& k) {
-  auto* f = new Functor;
-  f->obs = obs;
-  f->neutral = m.neutral;
-  for (int i = 0; i < N; ++i)
-    f->steps[static_cast<std::size_t>(i)] = m.faps[static_cast<std::size_t>(i)].step;
-  f->k = k;
-  if constexpr (N == 0) return new ceres::AutoDiffCostFunction<Functor, 2, 6>(f);
-  if constexpr (N == 1) return new ceres::AutoDiffCostFunction<Functor, 2, 6, 1>(f);
-  if constexpr (N == 2) return new ceres::AutoDiffCostFunction<Functor, 2, 6, 1, 1>(f);
-  if constexpr (N == 3) return new ceres::AutoDiffCostFunction<Functor, 2, 6, 1, 1, 1>(f);
-}
+// How much harder than the weak prior a clamped unidirectional FAP is pinned to 0.
+constexpr double kHold = 1000.0;
 
 }  // namespace
 
@@ -190,17 +183,26 @@ struct FapSolver::Impl {
   Intrinsics k{};
   std::unordered_map<std::string, std::size_t> marker_index;
   std::vector<Observation> observations;
-  std::vector<int> fap_slot;             // FAP id -> index in values, -1 when not fitted
-  std::vector<double> values, previous;  // per fitted FAP
+  std::vector<int> fap_slot;  // FAP id -> index among the fitted FAPs, -1 when not fitted
+  // The one parameter block: angle-axis (3), translation (3), then the fitted FAPs.
+  std::vector<double> x;
+  std::vector<double> previous;  // FAP values of the previous frame (the prior's targets)
   std::vector<std::vector<std::size_t>> markers_of_fap;  // fitted FAP -> markers moving it
-  double pose[6] = {0, 0, 0, 0, 0, 0};
   double neutral_pose[6] = {0, 0, 0, 0, 0, 0};
+  double last_pose[6] = {0, 0, 0, 0, 0, 0};  // pose of the frame before the previous one
   tracking::HeadPose neutral_cv;
   std::unique_ptr<ceres::LossFunction> loss;
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
   ceres::Problem problem;
   ceres::Solver::Options solver;
-  bool have_previous = false;
+  int fitted_in_a_row = 0;  // consecutive fitted frames: 0 = cold start, 2+ = a velocity
+  // Focal length refinement (SolverOptions::refine_default_focal): the calibrated focal
+  // length times exp(log_focal), and the information gathered about log_focal so far.
+  bool refine_focal = false;
+  double base_fx = 0, base_fy = 0, log_focal = 0, focal_information = 0;
+  std::vector<Eigen::Vector3d> shape_rate;  // per marker, see set_shape_rates()
+  // Per fitted FAP: 1, or kHold for a unidirectional FAP clamped at 0 in this frame.
+  std::vector<double> prior_gain;
 
   static ceres::Problem::Options problem_options() {
     ceres::Problem::Options o;
@@ -209,22 +211,32 @@ struct FapSolver::Impl {
     return o;
   }
 
+  std::size_t fap_count() const { return model.faps.size(); }
+  double* pose() { return x.data(); }
+  double* values() { return x.data() + 6; }
+
   Impl(const calib::ActorProfile& p, const SolverOptions& o)
       : profile(p), options(o), model(build_marker_model(p, o.model)), problem(problem_options()) {
     const auto& cam = p.camera;
     k = {cam.fx, cam.fy, cam.cx, cam.cy};
+    base_fx = cam.fx;
+    base_fy = cam.fy;
+    refine_focal = o.refine_default_focal && calib::is_default_intrinsics(cam);
+    focal_information = 1.0 / (o.focal_prior_sigma * o.focal_prior_sigma);
     observations.resize(model.markers.size());
     for (std::size_t i = 0; i < model.markers.size(); ++i)
       marker_index[model.markers[i].marker] = i;
     fap_slot.assign(kFapCount + 1, -1);
     for (std::size_t s = 0; s < model.faps.size(); ++s)
       fap_slot[static_cast<std::size_t>(model.faps[s])] = static_cast<int>(s);
-    values.assign(model.faps.size(), 0.0);
-    previous.assign(model.faps.size(), 0.0);
-    markers_of_fap.resize(model.faps.size());
+    x.assign(6 + fap_count(), 0.0);
+    previous.assign(fap_count(), 0.0);
+    prior_gain.assign(fap_count(), 1.0);
+    markers_of_fap.resize(fap_count());
 
     set_neutral_pose();
-    std::copy(neutral_pose, neutral_pose + 6, pose);
+    std::copy(neutral_pose, neutral_pose + 6, pose());
+    set_shape_rates();
 
     if (options.loss == RobustLoss::Huber)
       loss = std::make_unique<ceres::HuberLoss>(options.loss_scale_px);
@@ -233,60 +245,38 @@ struct FapSolver::Impl {
 
     // Pixels per FAP unit at the neutral depth, for the prior's weight.
     const double depth = std::max(1.0, neutral_cv.translation[2]);
-    std::vector<double> px_per_unit(model.faps.size(), 0.0);
-    problem.AddParameterBlock(pose, 6);
-    for (double& v : values) problem.AddParameterBlock(&v, 1);
+    std::vector<double> px_per_unit(fap_count(), 0.0);
+    const int n = static_cast<int>(x.size());
+    problem.AddParameterBlock(x.data(), n);
     for (std::size_t i = 0; i < model.markers.size(); ++i) {
       const ModelMarker& m = model.markers[i];
-      std::vector<double*> blocks{pose};
       for (const FapStep& s : m.faps) {
         const auto slot = static_cast<std::size_t>(fap_slot[static_cast<std::size_t>(s.fap)]);
-        blocks.push_back(&values[slot]);
         markers_of_fap[slot].push_back(i);
         px_per_unit[slot] = std::max(px_per_unit[slot], s.step.norm() * cam.fx / depth);
       }
-      ceres::CostFunction* cost = nullptr;
-      switch (m.faps.size()) {
-        case 0:
-          cost = make_cost<0, Residual0>(&observations[i], m, k);
-          break;
-        case 1:
-          cost = make_cost<1, Residual1>(&observations[i], m, k);
-          break;
-        case 2:
-          cost = make_cost<2, Residual2>(&observations[i], m, k);
-          break;
-        case 3:
-          cost = make_cost<3, Residual3>(&observations[i], m, k);
-          break;
-        default:
-          cost = make_cost_many(&observations[i], m, k);
-      }
-      costs.emplace_back(cost);
-      problem.AddResidualBlock(cost, loss.get(), blocks);
+      costs.emplace_back(new MarkerResidual(&observations[i], m, fap_slot, &k, n));
+      problem.AddResidualBlock(costs.back().get(), loss.get(), x.data());
     }
-    if (!values.empty()) {
+    if (fap_count() > 0) {
       std::vector<double> weights;
-      std::vector<double*> blocks;
-      for (std::size_t s = 0; s < values.size(); ++s) {
+      for (std::size_t s = 0; s < fap_count(); ++s)
         weights.push_back(options.prior_weight * px_per_unit[s]);
-        blocks.push_back(&values[s]);
-      }
-      auto* prior = new PriorResiduals(&previous, std::move(weights));
-      costs.emplace_back(prior);
-      problem.AddResidualBlock(prior, nullptr, blocks);
+      costs.emplace_back(new PriorResiduals(&previous, &prior_gain, std::move(weights), n));
+      problem.AddResidualBlock(costs.back().get(), nullptr, x.data());
     }
-    for (std::size_t s = 0; s < model.faps.size(); ++s)
-      if (!fap_info(model.faps[s]).bidirectional)
-        problem.SetParameterLowerBound(&values[s], 0, 0.0);
 
+    // A few dozen residuals over a few dozen parameters: dense normal equations are the
+    // cheapest exact solve; one thread, no logging, no gradient checks.
     solver.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
     solver.max_num_iterations = options.max_iterations;
     solver.logging_type = ceres::SILENT;
     solver.minimizer_progress_to_stdout = false;
+    solver.check_gradients = false;
     solver.num_threads = 1;
-    solver.function_tolerance = 1e-6;
-    solver.parameter_tolerance = 1e-6;
+    solver.function_tolerance = options.function_tolerance;
+    solver.parameter_tolerance = options.parameter_tolerance;
+    solver.gradient_tolerance = 1e-10;
   }
 
   void set_neutral_pose() {
@@ -319,17 +309,142 @@ struct FapSolver::Impl {
 
   tracking::HeadPose current_pose() const {
     cv::Matx33d r;
-    cv::Rodrigues(cv::Vec3d(pose[0], pose[1], pose[2]), r);
+    cv::Rodrigues(cv::Vec3d(x[0], x[1], x[2]), r);
     cv::Vec3d rv;
     cv::Rodrigues(r * flip(), rv);
-    return {rv, {pose[3], pose[4], pose[5]}};
+    return {rv, {x[3], x[4], x[5]}};
+  }
+
+  // One recursive least-squares step on log f from this frame's fit: the gradient and the
+  // information of the reprojection errors in log f, both marginalised over the frame's pose
+  // and FAPs (Schur complement), so what the pose or the face could explain is not read as
+  // a focal length. The residual Jacobian of fx X/Z + cx - u in log f is fx X/Z itself plus
+  // the neutral shape's own move (set_shape_rates()): without that term the neutral frames,
+  // which the calibration fitted at the old focal length, read as evidence for it.
+  void refine_focal_length(const std::vector<std::size_t>& which) {
+    const auto n = static_cast<Eigen::Index>(x.size());
+    const auto markers = static_cast<Eigen::Index>(2 * which.size());
+    const auto rows = markers + static_cast<Eigen::Index>(fap_count());
+    Eigen::MatrixXd J(rows, n);
+    Eigen::VectorXd r(rows), jf = Eigen::VectorXd::Zero(rows);
+    const double* params[] = {x.data()};
+    Eigen::Index row = 0;
+    Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor> jm(2, n);
+    for (std::size_t i : which) {
+      double* jac[] = {jm.data()};
+      costs[i]->Evaluate(params, r.data() + row, jac);
+      J.middleRows(row, 2) = jm;
+      // The focal length itself, plus the neutral shape rebuilt at the new focal length.
+      double shape[2];
+      static_cast<const MarkerResidual*>(costs[i].get())->along(x.data(), shape_rate[i], shape);
+      jf(row) = r(row) + observations[i].u - k.cx + shape[0];
+      jf(row + 1) = r(row + 1) + observations[i].v - k.cy + shape[1];
+      row += 2;
+    }
+    if (fap_count() > 0) {
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jp(rows - markers, n);
+      double* jac[] = {jp.data()};
+      costs.back()->Evaluate(params, r.data() + row, jac);
+      J.bottomRows(rows - markers) = jp;
+    }
+    const Eigen::MatrixXd H = J.transpose() * J;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+    const Eigen::VectorXd b = J.transpose() * jf;
+    const Eigen::VectorXd h_b = ldlt.solve(b);
+    const double information = jf.squaredNorm() - b.dot(h_b);
+    const double gradient = jf.dot(r) - h_b.dot(J.transpose() * r);
+    if (!std::isfinite(information) || !std::isfinite(gradient)) return;
+    focal_information += std::max(0.0, information);
+    const double next = std::clamp(log_focal - gradient / focal_information, -1.5, 1.5);
+    set_log_focal(next);
+  }
+
+  // The neutral shape as the calibration would have built it at focal length f0 e^eps: the
+  // neutral head moved away by e^eps (its image size kept) and each marker kept on its
+  // neutral image ray q at its depth relative to the head: P(eps) = (q e^-eps d(eps), d(eps)),
+  // d(eps) = d0 + (e^eps - 1) t0z, t0(eps) = (t0x, t0y, t0z e^eps), X = R0^T (P - t0).
+  struct NeutralRay {
+    Eigen::Vector2d q;  // normalised image position at f0 (z = 1)
+    double depth = 0;   // camera depth at f0
+  };
+  std::vector<NeutralRay> rays;
+  cv::Matx33d r0;
+  Eigen::Vector3d t0;
+
+  void set_shape_rates() {
+    cv::Rodrigues(neutral_cv.rotation, r0);
+    t0 = {neutral_cv.translation[0], neutral_cv.translation[1], neutral_cv.translation[2]};
+    for (const ModelMarker& m : model.markers) {
+      const cv::Vec3d pc = r0 * cv::Vec3d(m.neutral.x(), m.neutral.y(), m.neutral.z());
+      const Eigen::Vector3d p = Eigen::Vector3d(pc[0], pc[1], pc[2]) + t0;
+      rays.push_back({{p.x() / p.z(), p.y() / p.z()}, p.z()});
+    }
+    update_shape_rates();
+  }
+
+  Eigen::Vector3d to_head(const Eigen::Vector3d& in_camera) const {
+    const cv::Vec3d h = r0.t() * cv::Vec3d(in_camera.x(), in_camera.y(), in_camera.z());
+    return {h[0], h[1], h[2]};
+  }
+
+  // dX/d eps at the current eps, per marker.
+  void update_shape_rates() {
+    const double e = std::exp(log_focal);
+    shape_rate.clear();
+    for (const NeutralRay& ray : rays) {
+      const double d = ray.depth + (e - 1) * t0.z();
+      shape_rate.push_back(
+          to_head({ray.q.x() * (t0.z() - d / e), ray.q.y() * (t0.z() - d / e), 0}));
+    }
+  }
+
+  void set_log_focal(double next) {
+    const double e0 = std::exp(log_focal), e = std::exp(next);
+    log_focal = next;
+    k.fx = base_fx * e;
+    k.fy = base_fy * e;
+    for (std::size_t i = 0; i < model.markers.size(); ++i) {
+      const NeutralRay& ray = rays[i];
+      auto neutral_at = [&](double s) {
+        const double d = ray.depth + (s - 1) * t0.z();
+        return to_head(Eigen::Vector3d(ray.q.x() / s * d, ray.q.y() / s * d, d) -
+                       Eigen::Vector3d(t0.x(), t0.y(), t0.z() * s));
+      };
+      static_cast<MarkerResidual*>(costs[i].get())->move_neutral(neutral_at(e) - neutral_at(e0));
+    }
+    update_shape_rates();
+    const double scale = e / e0;
+    neutral_pose[5] *= scale;
+    neutral_cv.translation[2] *= scale;
+    x[5] *= scale;  // the next frame starts at the rescaled depth
+    last_pose[5] *= scale;
   }
 
   void reset() {
-    have_previous = false;
-    std::copy(neutral_pose, neutral_pose + 6, pose);
-    std::fill(values.begin(), values.end(), 0.0);
+    fitted_in_a_row = 0;
+    std::fill(prior_gain.begin(), prior_gain.end(), 1.0);
+    std::copy(neutral_pose, neutral_pose + 6, pose());
+    std::fill(x.begin() + 6, x.end(), 0.0);
     std::fill(previous.begin(), previous.end(), 0.0);
+  }
+
+  // The starting pose: the previous frame's moved on by the last frame-to-frame motion
+  // (constant velocity), which saves the turning head one or two iterations a frame.
+  void predict_pose() {
+    double now[6];
+    std::copy(pose(), pose() + 6, now);
+    if (fitted_in_a_row >= 2) {
+      cv::Matx33d r_now, r_last;
+      cv::Rodrigues(cv::Vec3d(now[0], now[1], now[2]), r_now);
+      cv::Rodrigues(cv::Vec3d(last_pose[0], last_pose[1], last_pose[2]), r_last);
+      cv::Vec3d aa;
+      cv::Rodrigues(r_now * r_last.t() * r_now, aa);
+      for (int i = 0; i < 3; ++i) {
+        x[static_cast<std::size_t>(i)] = aa[i];
+        x[static_cast<std::size_t>(3 + i)] = 2 * now[3 + i] - last_pose[3 + i];
+      }
+    }
+    std::copy(now, now + 6, last_pose);
   }
 
   FitResult fit(const tracking::TrackedFrame& frame) {
@@ -356,36 +471,57 @@ struct FapSolver::Impl {
       observations[which[n]] = {pixels[n].x, pixels[n].y, true};
     }
 
-    // A FAP no valid marker sees is held at its previous value and not reported.
-    std::vector<bool> seen(values.size(), false);
-    for (std::size_t s = 0; s < values.size(); ++s) {
+    // A FAP no valid marker sees keeps its previous value (the prior is its only residual)
+    // and is not reported.
+    std::vector<bool> seen(fap_count(), false);
+    for (std::size_t s = 0; s < fap_count(); ++s)
       for (std::size_t i : markers_of_fap[s]) seen[s] = seen[s] || observations[i].active;
-      if (seen[s])
-        problem.SetParameterBlockVariable(&values[s]);
-      else
-        problem.SetParameterBlockConstant(&values[s]);
+    if (fitted_in_a_row == 0) {
+      std::copy(neutral_pose, neutral_pose + 6, pose());
+      std::fill(x.begin() + 6, x.end(), 0.0);
+    } else {
+      predict_pose();
     }
-    if (!have_previous) {
-      std::copy(neutral_pose, neutral_pose + 6, pose);
-      std::fill(values.begin(), values.end(), 0.0);
-    }
-    previous = values;
+    std::copy(x.begin() + 6, x.end(), previous.begin());
 
+    // Unidirectional FAPs by an active set rather than Ceres' bounds. Ceres projects each step
+    // onto the bounds after computing it without them, so a FAP resting on its bound (every
+    // unidirectional FAP of a neutral face) cost 20-25 shrinking steps instead of 3. Here a
+    // clamped FAP is pinned to 0 by its prior made kHold times stronger (a subset manifold
+    // would hold it exactly but makes Ceres rebuild its evaluator: slower): start with the
+    // previous frame's clamped set, pin those that end below 0, release those the markers
+    // pull above 0, until the set holds.
+    for (std::size_t s = 0; s < fap_count(); ++s)
+      if (prior_gain[s] != 1.0) previous[s] = 0;
     ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
-    result.iterations = static_cast<int>(summary.iterations.size());
+    for (int round = 0; round < 4; ++round) {
+      ceres::Solve(solver, &problem, &summary);
+      result.iterations += static_cast<int>(summary.iterations.size());
+      if (!summary.IsSolutionUsable()) break;
+      bool changed = false;
+      for (std::size_t s = 0; s < fap_count(); ++s) {
+        if (fap_info(model.faps[s]).bidirectional) continue;
+        if (prior_gain[s] == 1.0 && x[6 + s] < 0) {
+          x[6 + s] = previous[s] = 0;
+          prior_gain[s] = kHold;
+          changed = true;
+        } else if (prior_gain[s] != 1.0 && x[6 + s] > 1e-9) {
+          prior_gain[s] = 1.0;  // the markers pull it off the bound
+          changed = true;
+        }
+      }
+      if (!changed) break;
+    }
+    for (std::size_t s = 0; s < fap_count(); ++s)
+      if (prior_gain[s] != 1.0) x[6 + s] = 0;  // exactly on the bound
     result.markers_used = static_cast<int>(which.size());
 
     // RMS reprojection error without the robust loss, from the final state.
     double sq = 0;
+    const double* params[] = {x.data()};
     for (std::size_t i : which) {
       double r[2];
-      const ModelMarker& m = model.markers[i];
-      std::vector<const double*> params{pose};
-      for (const FapStep& f : m.faps)
-        params.push_back(
-            &values[static_cast<std::size_t>(fap_slot[static_cast<std::size_t>(f.fap)])]);
-      costs[i]->Evaluate(params.data(), r, nullptr);
+      costs[i]->Evaluate(params, r, nullptr);
       sq += r[0] * r[0] + r[1] * r[1];
     }
     result.rms_px = std::sqrt(sq / static_cast<double>(which.size()));
@@ -395,10 +531,13 @@ struct FapSolver::Impl {
       return result;
     }
     result.ok = true;
-    have_previous = true;
+    result.focal_px = k.fx;
+    if (refine_focal) refine_focal_length(which);
+    if (fitted_in_a_row == 0) std::copy(pose(), pose() + 6, last_pose);
+    ++fitted_in_a_row;
     result.pose = current_pose();
-    for (std::size_t s = 0; s < values.size(); ++s)
-      if (seen[s]) result.faps.set(model.faps[s], profile.apply_gain(model.faps[s], values[s]));
+    for (std::size_t s = 0; s < fap_count(); ++s)
+      if (seen[s]) result.faps.set(model.faps[s], profile.apply_gain(model.faps[s], values()[s]));
     if (options.head_faps) {
       const auto head = head_rotation_faps(neutral_cv, result.pose);
       for (int i = 0; i < 3; ++i)
@@ -419,6 +558,9 @@ void FapSolver::reset() {
 }
 const MarkerModel& FapSolver::model() const {
   return impl_->model;
+}
+double FapSolver::focal_length() const {
+  return impl_->k.fx;
 }
 
 }  // namespace rostro::mapping

@@ -3,7 +3,8 @@
 // points, minimising the markers' reprojection error. Each marker's 3D position is its
 // neutral position moved by the FAPs acting on it (value x actor FAPU along fap_axis()).
 // Robust loss, lower bounds for unidirectional FAPs, a weak pull toward the previous frame,
-// warm-started from the previous frame. Ceres with automatic derivatives.
+// warm-started from the previous frame (the pose at constant velocity). Ceres, with one
+// parameter block (pose + FAPs) and analytic derivatives.
 
 #include <memory>
 #include <optional>
@@ -25,8 +26,18 @@ struct SolverOptions {
   // its marker by p pixels costs as much as a reprojection error of prior_weight x p.
   double prior_weight = 0.05;
   int max_iterations = 25;
+  // Ceres' stopping rules: relative cost change, relative step size.
+  double function_tolerance = 1e-6;
+  double parameter_tolerance = 1e-6;
   int min_markers = 4;    // fewer valid markers: the frame is not fitted
   bool head_faps = true;  // report the head rotation from neutral as FAPs 48-50
+  // With default intrinsics (no --camera), the focal length is a guess that bends every FAP
+  // once the head turns (f = 640 for a camera of 1083: 73 % mean FAP error at 25 degrees of
+  // yaw on exact tracks). Refine it from the frames themselves: a recursive least-squares
+  // estimate of log f from each fitted frame, its information marginalised over that frame's
+  // pose and FAPs (a frontal face says almost nothing about f, a turned one does).
+  bool refine_default_focal = true;
+  double focal_prior_sigma = 0.2;  // of log f: how firmly the guess is held
 };
 
 struct FitResult {
@@ -35,7 +46,8 @@ struct FitResult {
   double rms_px = 0;        // RMS reprojection error over the markers used
   int markers_used = 0;
   int iterations = 0;
-  bool ok = false;  // false: too few markers, nothing measured this frame
+  double focal_px = 0;  // the focal length (fx) this frame was fitted with
+  bool ok = false;      // false: too few markers, nothing measured this frame
 };
 
 class FapSolver {
@@ -49,6 +61,9 @@ class FapSolver {
   // Forgets the previous frame: the next fit starts from the neutral pose and face.
   void reset();
   const MarkerModel& model() const;
+  // The focal length (fx, px) the next frame will be fitted with: the profile's, or its
+  // refined estimate (SolverOptions::refine_default_focal).
+  double focal_length() const;
 
  private:
   struct Impl;

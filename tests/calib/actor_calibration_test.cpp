@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include "calib/actor_prior.hpp"
 #include "calib/fapu_estimation.hpp"
 #include "calib/generic_face.hpp"
+#include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "tests/mapping/synthetic_face.hpp"
 
@@ -129,6 +131,54 @@ TEST(ActorCalibration, PlacesLayoutMarkersOnThePrior) {
   EXPECT_TRUE(placed.at("tag").isApprox(Eigen::Vector3d(0, 53, 10), 1e-9));
   EXPECT_TRUE(placed.at("m8.3").isApprox(prior.at({8, 3}), 1e-9));
   EXPECT_THROW(place_nominal_markers({layout.back()}, prior), InputError);
+}
+
+TEST(ActorCalibration, RecalibratingAtAnotherFocalLengthMatchesCalibratingThere) {
+  const auto actor = test::make_actor();  // f = 1000 px
+  std::mt19937 rng(31);
+  std::vector<tracking::TrackedFrame> frames;
+  for (int i = 0; i < 10; ++i)
+    frames.push_back(test::render(actor, {}, test::head_pose(0, 0, 0), 0.0, rng, i));
+  CameraIntrinsics guess = actor.camera;
+  guess.fx = guess.fy = 650;
+  guess.source = "default: a guess";
+  const ActorProfile first = calibrate_actor(frames, guess, test::calibration_options());
+  const ActorProfile direct = calibrate_actor(frames, actor.camera, test::calibration_options());
+  const ActorProfile redone = recalibrate_focal(first, 1000.0);
+  EXPECT_EQ(redone.camera.fx, 1000.0);
+  EXPECT_EQ(redone.camera.source, guess.source);  // still a default: the fit keeps refining
+  ASSERT_TRUE(redone.neutral_pose && direct.neutral_pose);
+  EXPECT_NEAR(redone.neutral_pose->translation[2], direct.neutral_pose->translation[2], 5.0);
+  EXPECT_NEAR(first.neutral_pose->translation[2] / redone.neutral_pose->translation[2], 0.65, 0.03);
+  double worst = 0;
+  for (const NeutralMarker& m : redone.markers) {
+    const NeutralMarker* d = direct.find_marker(m.marker);
+    ASSERT_TRUE(d && d->position && m.position) << m.marker;
+    worst = std::max(worst, (*m.position - *d->position).norm());
+  }
+  EXPECT_LT(worst, 1.0) << "mm between the redone shape and one calibrated at 1000 px";
+  EXPECT_EQ(redone.fapu.mns0, first.fapu.mns0);  // the FAPU are kept
+  EXPECT_EQ(redone.markers.size(), first.markers.size());
+}
+
+TEST(ActorPrior, HeadbandTagsSitOnThePriorHeadsSkin) {
+  // The layout's nominal place of the middle tag floats 12 mm in front of the default head's
+  // forehead; a tag lies on the skin, and its depth decides the head pose once the head turns.
+  const ActorPrior prior = load_actor_prior();
+  if (prior.skin.empty()) GTEST_SKIP() << "the default head did not load: no skin to test";
+  const auto layout = tracking::load_layout(data_file("layouts/default.json"));
+  const ActorCalibrationOptions o = actor_calibration_options(layout, prior, "a");
+  int tags = 0;
+  for (const auto& m : layout.markers) {
+    if (!m.is_tag()) continue;
+    ++tags;
+    const Eigen::Vector3d& x = o.marker_priors.at(m.id);
+    double nearest = 1e9;
+    for (const Eigen::Vector3d& v : prior.skin) nearest = std::min(nearest, (v - x).norm());
+    EXPECT_LT(nearest, 1e-9) << m.id << " is not on the skin";
+    EXPECT_GT(x.y(), prior.points.at({4, 3}).y()) << m.id << " should be above the brows";
+  }
+  EXPECT_EQ(tags, 3);
 }
 
 }  // namespace

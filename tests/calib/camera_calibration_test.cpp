@@ -125,6 +125,11 @@ TEST(CameraIntrinsics, MalformedFilesAndTheDefault) {
   EXPECT_EQ(d.cx, 640);
   EXPECT_EQ(d.cy, 360);
   EXPECT_FALSE(d.has_distortion());
+  // The fit refines a default focal length from head turns, never a calibrated one.
+  EXPECT_TRUE(is_default_intrinsics(d));
+  CameraIntrinsics calibrated = d;
+  calibrated.source = "chessboard, 12 views";
+  EXPECT_FALSE(is_default_intrinsics(calibrated));
 }
 
 }  // namespace

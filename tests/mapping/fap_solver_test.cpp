@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "calib/actor_calibration.hpp"
+#include "mapping/fap_mapper.hpp"
 #include "tests/mapping/synthetic_face.hpp"
 
 namespace rostro::mapping {
@@ -112,6 +113,126 @@ TEST(FapSolver, WarmStartedSequenceTracksAMovingHead) {
     // 0.2 px of noise is 0.12 mm on the face: RMS over all FAPs within twice that.
     EXPECT_LT(expect_faps(clamped, r.faps, 0.05, 0.5, "frame " + std::to_string(i)), 0.25);
   }
+}
+
+// A head swept to yaw +-25 and pitch +-15 degrees, warm-started frame to frame, on exact
+// projections with a profile calibrated from noise-free neutral frames: the head FAPs and the
+// expression come back tightly (the remaining error is the calibration's: prior depths).
+TEST(FapSolver, TurnedHeadOnExactProjectionsRecoversHeadAndExpressionTightly) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  std::mt19937 rng(19);
+  const auto profile = calib::calibrate_actor(neutral_frames(actor, neutral, 0.0, rng),
+                                              actor.camera, test::calibration_options());
+  FapSolver solver(profile);
+  double worst_yaw = 0, worst_pitch = 0;
+  for (int i = 0; i < 60; ++i) {
+    const double t = i / 59.0;
+    const double yaw = 25 * std::sin(2 * M_PI * t), pitch = 15 * std::sin(4 * M_PI * t);
+    const auto truth = test::test_expression(0.5 + 0.5 * std::cos(3 * M_PI * t));
+    const FitResult r = solver.fit(render(actor, truth, head_pose(yaw, pitch, 0), 0, rng, i));
+    const std::string what = "frame " + std::to_string(i);
+    ASSERT_TRUE(r.ok) << what;
+    worst_yaw = std::max(worst_yaw, std::abs(r.faps.get(49) * kAngleUnitRad - test::deg(yaw)));
+    worst_pitch =
+        std::max(worst_pitch, std::abs(r.faps.get(48) * kAngleUnitRad - test::deg(pitch)));
+    EXPECT_LT(expect_faps(truth, r.faps, 0.03, 0.1, what), 0.06) << what;
+  }
+  EXPECT_LT(worst_yaw, test::deg(0.3));
+  EXPECT_LT(worst_pitch, test::deg(0.3));
+}
+
+// A unidirectional FAP the markers push below 0 (here the jaw pushed up into the skull) rests
+// exactly on 0, and the fit does not crawl there: Ceres' projected bounds took 20-25
+// iterations on such frames, the active set takes a few per round.
+TEST(FapSolver, UnidirectionalFapsRestOnZeroInFewIterations) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  FapSolver solver(test::exact_profile(actor, neutral));
+  std::mt19937 rng(23);
+  auto truth = test::test_expression(0.5);
+  truth[3] = -60;  // open_jaw is unidirectional
+  const FitResult r = solver.fit(render(actor, truth, head_pose(10, -5, 0), 0, rng));
+  ASSERT_TRUE(r.ok);
+  ASSERT_TRUE(r.faps.has(3));
+  EXPECT_EQ(r.faps.get(3), 0.0);
+  EXPECT_LE(r.iterations, 15);
+  for (const auto& [id, value] : truth) {
+    if (fap_info(id).bidirectional) continue;
+    EXPECT_GE(r.faps.get(id), 0.0) << fap_info(id).name;
+  }
+}
+
+// Without a calibrated camera the focal length is a guess; head turns tell the fit the real
+// one, and the FAPs come out better for it.
+TEST(FapSolver, DefaultFocalLengthIsRefinedFromHeadTurns) {
+  const auto actor = make_actor();  // f = 1000 px
+  const auto neutral = head_pose(0, 0, 0);
+  calib::CameraIntrinsics guess = calib::default_intrinsics(actor.camera.image_size);
+  guess.fx = guess.fy = 650;  // 35 % short
+  std::mt19937 rng(29);
+  const auto profile = calib::calibrate_actor(neutral_frames(actor, neutral, 0.0, rng), guess,
+                                              test::calibration_options());
+  SolverOptions fixed;
+  fixed.refine_default_focal = false;
+  FapSolver refined(profile), kept(profile, fixed);
+  double sq_refined = 0, sq_kept = 0;
+  double focal = 0;
+  for (int i = 0; i < 120; ++i) {
+    const double t = i / 60.0;
+    const auto truth = test::test_expression(0.5 + 0.5 * std::cos(3 * M_PI * t));
+    const auto frame =
+        render(actor, truth, head_pose(25 * std::sin(2 * M_PI * t), 15 * std::sin(4 * M_PI * t), 0),
+               0, rng, i);
+    const FitResult a = refined.fit(frame), b = kept.fit(frame);
+    ASSERT_TRUE(a.ok && b.ok) << "frame " << i;
+    focal = a.focal_px;
+    EXPECT_EQ(b.focal_px, 650.0);
+    if (i < 60) continue;  // the second sweep: after one sweep of head turns
+    for (const auto& [id, value] : truth) {
+      const double unit = actor.fapu.unit_size(fap_info(id).unit);
+      sq_refined += std::pow((a.faps.get(id) - value) * unit, 2);
+      sq_kept += std::pow((b.faps.get(id) - value) * unit, 2);
+    }
+  }
+  EXPECT_NEAR(focal, 1000.0, 150.0);
+  EXPECT_LT(sq_refined, 0.5 * sq_kept);
+}
+
+// The mapper also recalibrates the actor at the refined focal length (the solver alone adjusts
+// the shape to first order and stops short): after head turns the focal length is the
+// camera's and the FAPs are as good as with the true intrinsics.
+TEST(FapMapper, DefaultFocalLengthConvergesWithRecalibration) {
+  const auto actor = make_actor();  // f = 1000 px
+  std::mt19937 rng(37);
+  calib::CameraIntrinsics guess = calib::default_intrinsics(actor.camera.image_size);
+  guess.fx = guess.fy = 650;
+  const auto neutral = neutral_frames(actor, head_pose(0, 0, 0), 0.0, rng);
+  MapperOptions refine, keep;
+  keep.solver.refine_default_focal = false;
+  const auto profile = calib::calibrate_actor(neutral, guess, test::calibration_options());
+  const auto exact = calib::calibrate_actor(neutral, actor.camera, test::calibration_options());
+  auto refined = make_fap_mapper(profile, refine);
+  auto kept = make_fap_mapper(profile, keep);
+  auto known = make_fap_mapper(exact, keep);
+  double sq_refined = 0, sq_kept = 0, sq_known = 0;
+  for (int i = 0; i < 240; ++i) {
+    const double t = i / 60.0;
+    const auto truth = test::test_expression(0.5 + 0.5 * std::cos(3 * M_PI * t));
+    const auto frame =
+        render(actor, truth, head_pose(25 * std::sin(2 * M_PI * t), 15 * std::sin(4 * M_PI * t), 0),
+               0, rng, i);
+    const FapFrame a = refined->map(frame), b = kept->map(frame), c = known->map(frame);
+    if (i < 180) continue;  // the last of four sweeps
+    for (const auto& [id, value] : truth) {
+      const double unit = actor.fapu.unit_size(fap_info(id).unit);
+      sq_refined += std::pow((a.get(id) - value) * unit, 2);
+      sq_kept += std::pow((b.get(id) - value) * unit, 2);
+      sq_known += std::pow((c.get(id) - value) * unit, 2);
+    }
+  }
+  EXPECT_LT(sq_refined, 0.1 * sq_kept);
+  EXPECT_LT(std::sqrt(sq_refined), 2.0 * std::sqrt(sq_known) + 1e-3);
 }
 
 TEST(FapSolver, InvalidMarkersAreIgnored) {
