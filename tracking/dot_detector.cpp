@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
@@ -17,7 +18,8 @@ inline float contrast_of(DotPolarity polarity, float background, float value) {
 
 // Median grey level of the window's border: the background around a dot in the middle.
 float border_median(const cv::Mat& patch) {
-  std::vector<uint8_t> v;
+  thread_local std::vector<uint8_t> v;  // refine_dot runs per dot per frame: no allocation
+  v.clear();
   v.reserve(static_cast<size_t>(2 * (patch.cols + patch.rows)));
   for (int x = 0; x < patch.cols; ++x) {
     v.push_back(patch.at<uint8_t>(0, x));
@@ -45,38 +47,67 @@ struct Extent {
   cv::Point2d centre;
 };
 
-Extent extent_at(const cv::Mat& c, cv::Point peak, float threshold) {
+// A 4-connected flood fill over the pixels at or above `threshold`, with the blob's moments
+// summed as it goes: this runs a few times per dot per frame, on windows of a few hundred
+// pixels, where OpenCV's compare + floodFill + moments cost more in set-up than in work.
+// A blob growing past `max_area` pixels is given up (marked as touching the edge): the
+// caller would reject it as too wide, and a dot merged with an eyebrow or the hair can be
+// hundreds of pixels.
+Extent extent_at(const cv::Mat& c, cv::Point peak, float threshold,
+                 size_t max_area = std::numeric_limits<size_t>::max()) {
   Extent e;
-  cv::Mat above = c >= threshold;
-  cv::Mat region = cv::Mat::zeros(c.rows + 2, c.cols + 2, CV_8U);
-  cv::floodFill(above, region, peak, 255, nullptr, 0, 0, 4 | cv::FLOODFILL_MASK_ONLY | (255 << 8));
-  e.region = region(cv::Rect(1, 1, c.cols, c.rows)).clone();
-  e.area = cv::countNonZero(e.region);
-  if (e.area <= 0) return e;
-  const cv::Moments mo = cv::moments(e.region, true);
-  e.centre = {mo.m10 / mo.m00, mo.m01 / mo.m00};
+  const int w = c.cols, h = c.rows;
+  e.region = cv::Mat::zeros(h, w, CV_8U);
+  if (peak.x < 0 || peak.y < 0 || peak.x >= w || peak.y >= h ||
+      c.at<float>(peak.y, peak.x) < threshold)
+    return e;
+  thread_local std::vector<cv::Point> pixels;
+  pixels.clear();
+  pixels.push_back(peak);
+  e.region.at<uint8_t>(peak.y, peak.x) = 255;
+  double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    if (pixels.size() > max_area) {
+      e.touches_edge = true;
+      e.area = static_cast<double>(pixels.size());
+      e.diameter = 2 * std::sqrt(e.area / kPi);
+      return e;
+    }
+    const cv::Point p = pixels[k];
+    sx += p.x, sy += p.y;
+    sxx += static_cast<double>(p.x) * p.x, syy += static_cast<double>(p.y) * p.y,
+        sxy += static_cast<double>(p.x) * p.y;
+    if (p.x == 0 || p.y == 0 || p.x == w - 1 || p.y == h - 1) e.touches_edge = true;
+    const cv::Point next[4] = {{p.x - 1, p.y}, {p.x + 1, p.y}, {p.x, p.y - 1}, {p.x, p.y + 1}};
+    for (const cv::Point& q : next) {
+      if (q.x < 0 || q.y < 0 || q.x >= w || q.y >= h) continue;
+      uint8_t& mark = e.region.at<uint8_t>(q.y, q.x);
+      if (mark || c.at<float>(q.y, q.x) < threshold) continue;
+      mark = 255;
+      pixels.push_back(q);
+    }
+  }
+  const double n = static_cast<double>(pixels.size());
+  e.area = n;
+  e.centre = {sx / n, sy / n};
   // Principal axes of the blob (pixels as unit squares: + 1/12 each way).
-  const double sxx = mo.mu20 / mo.m00 + 1.0 / 12, syy = mo.mu02 / mo.m00 + 1.0 / 12,
-               sxy = mo.mu11 / mo.m00;
-  const double mean = (sxx + syy) / 2,
-               spread = std::sqrt((sxx - syy) * (sxx - syy) / 4 + sxy * sxy);
+  const double vxx = sxx / n - e.centre.x * e.centre.x + 1.0 / 12,
+               vyy = syy / n - e.centre.y * e.centre.y + 1.0 / 12,
+               vxy = sxy / n - e.centre.x * e.centre.y;
+  const double mean = (vxx + vyy) / 2,
+               spread = std::sqrt((vxx - vyy) * (vxx - vyy) / 4 + vxy * vxy);
   const double l1 = mean + spread, l2 = std::max(mean - spread, 1e-6);
-  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  const double angle = 0.5 * std::atan2(2 * vxy, vxx - vyy);
   const double ca = std::cos(angle), sa = std::sin(angle);
   const double a = std::sqrt(l1), b = std::sqrt(l2);
   e.elongation = a / b;
-  double far = 0;  // largest normalised ellipse radius of a pixel
-  for (int y = 0; y < e.region.rows; ++y) {
-    const uint8_t* r = e.region.ptr<uint8_t>(y);
-    for (int x = 0; x < e.region.cols; ++x) {
-      if (!r[x]) continue;
-      if (x == 0 || y == 0 || x == e.region.cols - 1 || y == e.region.rows - 1)
-        e.touches_edge = true;
-      const double dx = x - e.centre.x, dy = y - e.centre.y;
-      const double u = (ca * dx + sa * dy) / a, v = (-sa * dx + ca * dy) / b;
-      far = std::max(far, std::sqrt(u * u + v * v));
-    }
+  double far2 = 0;  // largest squared normalised ellipse radius of a pixel
+  for (const cv::Point& p : pixels) {
+    const double dx = p.x - e.centre.x, dy = p.y - e.centre.y;
+    const double u = (ca * dx + sa * dy) / a, v = (-sa * dx + ca * dy) / b;
+    far2 = std::max(far2, u * u + v * v);
   }
+  const double far = std::sqrt(far2);
   e.diameter = 2 * std::sqrt(e.area / kPi);
   e.roundness = e.area / (kPi * (far * a + 0.5) * (far * b + 0.5));
   return e;
@@ -87,42 +118,119 @@ constexpr double kExtentLevels[] = {0.5, 0.6, 0.7, 0.8, 0.9};
 
 }  // namespace
 
-std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double radius,
-                              const DotOptions& options) {
+namespace {
+
+// The contrast map (and its 3x3 mean) of the window that holds every dot centred within
+// `radius` of `guess`; buffers kept per thread, as this runs per dot per frame.
+struct ContrastWindow {
+  cv::Rect rect;
+  cv::Point2d guess;  // in window pixels
+  const cv::Mat* c = nullptr;
+  const cv::Mat* smooth = nullptr;
+};
+
+bool contrast_window(const cv::Mat& gray, cv::Point2d guess, double radius,
+                     const DotOptions& options, ContrastWindow& out) {
   CV_Assert(gray.type() == CV_8UC1);
   const double max_r = options.max_diameter_px / 2;
   const int half = static_cast<int>(std::ceil(radius + max_r + 2));
   const cv::Rect image_rect(0, 0, gray.cols, gray.rows);
-  const cv::Rect window =
-      cv::Rect(static_cast<int>(std::lround(guess.x)) - half,
-               static_cast<int>(std::lround(guess.y)) - half, 2 * half + 1, 2 * half + 1) &
-      image_rect;
-  if (window.width < 5 || window.height < 5) return std::nullopt;
-  const cv::Mat patch = gray(window);
+  out.rect = cv::Rect(static_cast<int>(std::lround(guess.x)) - half,
+                      static_cast<int>(std::lround(guess.y)) - half, 2 * half + 1, 2 * half + 1) &
+             image_rect;
+  if (out.rect.width < 5 || out.rect.height < 5) return false;
+  const cv::Mat patch = gray(out.rect);
   const float background = border_median(patch);
-
-  // Contrast map of the window.
-  cv::Mat c(patch.size(), CV_32F);
+  thread_local cv::Mat c, smooth;
+  c.create(patch.size(), CV_32F);
   for (int y = 0; y < patch.rows; ++y) {
     const uint8_t* in = patch.ptr<uint8_t>(y);
-    float* out = c.ptr<float>(y);
-    for (int x = 0; x < patch.cols; ++x) out[x] = contrast_of(options.polarity, background, in[x]);
+    float* row = c.ptr<float>(y);
+    for (int x = 0; x < patch.cols; ++x) row[x] = contrast_of(options.polarity, background, in[x]);
   }
-  cv::Mat smooth;
   cv::blur(c, smooth, {3, 3});
+  out.guess = {guess.x - out.rect.x, guess.y - out.rect.y};
+  out.c = &c;
+  out.smooth = &smooth;
+  return true;
+}
 
+std::optional<Dot> measure_peak(const cv::Mat& c, cv::Point peak, float peak_value,
+                                const cv::Rect& window, const DotOptions& options);
+
+}  // namespace
+
+std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double radius,
+                              const DotOptions& options) {
+  ContrastWindow w;
+  if (!contrast_window(gray, guess, radius, options, w)) return std::nullopt;
+  const cv::Mat& smooth = *w.smooth;
   // The strongest point within `radius` of the guess is the dot's core.
-  const cv::Point2d g(guess.x - window.x, guess.y - window.y);
+  const cv::Point2d g = w.guess;
   cv::Point peak(-1, -1);
   float peak_value = -1e9f;
-  for (int y = 0; y < smooth.rows; ++y)
-    for (int x = 0; x < smooth.cols; ++x) {
+  const int py0 = std::max(0, static_cast<int>(std::floor(g.y - radius))),
+            py1 = std::min(smooth.rows - 1, static_cast<int>(std::ceil(g.y + radius))),
+            px0 = std::max(0, static_cast<int>(std::floor(g.x - radius))),
+            px1 = std::min(smooth.cols - 1, static_cast<int>(std::ceil(g.x + radius)));
+  for (int y = py0; y <= py1; ++y)
+    for (int x = px0; x <= px1; ++x) {
       const double dx = x - g.x, dy = y - g.y;
       if (dx * dx + dy * dy > radius * radius) continue;
       if (smooth.at<float>(y, x) > peak_value) peak_value = smooth.at<float>(y, x), peak = {x, y};
     }
   if (peak.x < 0 || peak_value < options.min_contrast) return std::nullopt;
+  return measure_peak(*w.c, peak, peak_value, w.rect, options);
+}
 
+std::vector<Dot> dots_near(const cv::Mat& gray, cv::Point2d guess, double radius,
+                           const DotOptions& options, int most, double least_contrast) {
+  ContrastWindow w;
+  if (!contrast_window(gray, guess, radius, options, w)) return {};
+  const cv::Mat& smooth = *w.smooth;
+  struct Peak {
+    double distance;
+    cv::Point at;
+    float value;
+  };
+  std::vector<Peak> peaks;
+  const cv::Point2d g = w.guess;
+  const int py0 = std::max(1, static_cast<int>(std::floor(g.y - radius))),
+            py1 = std::min(smooth.rows - 2, static_cast<int>(std::ceil(g.y + radius))),
+            px0 = std::max(1, static_cast<int>(std::floor(g.x - radius))),
+            px1 = std::min(smooth.cols - 2, static_cast<int>(std::ceil(g.x + radius)));
+  for (int y = py0; y <= py1; ++y)
+    for (int x = px0; x <= px1; ++x) {
+      const double dx = x - g.x, dy = y - g.y;
+      if (dx * dx + dy * dy > radius * radius) continue;
+      const float v = smooth.at<float>(y, x);
+      if (v < options.min_contrast || v < least_contrast) continue;
+      bool top = true;
+      for (int yy = -1; yy <= 1 && top; ++yy)
+        for (int xx = -1; xx <= 1; ++xx)
+          if ((xx || yy) && smooth.at<float>(y + yy, x + xx) > v) top = false;
+      if (top) peaks.push_back({std::sqrt(dx * dx + dy * dy), {x, y}, v});
+    }
+  std::sort(peaks.begin(), peaks.end(),
+            [](const Peak& a, const Peak& b) { return a.distance < b.distance; });
+  std::vector<Dot> out;
+  int tried = 0;  // noise on skin has many weak maxima: only the nearest few are measured
+  for (const Peak& p : peaks) {
+    if (static_cast<int>(out.size()) >= most || tried++ >= 2 * most) break;
+    auto d = measure_peak(*w.c, p.at, p.value, w.rect, options);
+    if (!d) continue;
+    bool seen = false;  // a plateau's several maxima measure as one dot
+    for (const Dot& o : out)
+      if (cv::norm(o.center - d->center) < 1.0) seen = true;
+    if (!seen) out.push_back(*d);
+  }
+  return out;
+}
+
+namespace {
+
+std::optional<Dot> measure_peak(const cv::Mat& c, cv::Point peak, float peak_value,
+                                const cv::Rect& window, const DotOptions& options) {
   // Its extent: the pixels connected to the peak above a share of the peak. Half is the
   // dot's true edge on plain skin. A dot that touches a darker feature (an eyebrow, the
   // iris, a nostril, the shadow under the chin) merges with it at half; those features are
@@ -132,24 +240,46 @@ std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double rad
   const Extent core = extent_at(c, peak, static_cast<float>(kExtentLevels[4] * peak_value));
   if (core.area <= 0 || core.touches_edge) return std::nullopt;
   const double rim = std::max(1.5, 0.2 * core.diameter);
-  Extent extent;
-  double share = 0;
-  for (double level : kExtentLevels) {
-    extent = level == kExtentLevels[4] ? core
-                                       : extent_at(c, peak, static_cast<float>(level * peak_value));
-    if (!extent.touches_edge && extent.diameter <= core.diameter + rim) {
-      share = level;
-      break;
+  const double widest = core.diameter + rim;
+  const auto most_pixels = static_cast<size_t>(kPi / 4 * widest * widest) + 1;
+  auto extent_of = [&](int level) {
+    return level == 4 ? core
+                      : extent_at(c, peak, static_cast<float>(kExtentLevels[level] * peak_value),
+                                  most_pixels);
+  };
+  auto fits = [&](const Extent& e) { return !e.touches_edge && e.diameter <= widest; };
+  // A lower share's blob holds a higher share's, so passing is monotonic in the share: half
+  // first (a dot on plain skin), else the lowest passing share by bisection (the core
+  // always passes).
+  Extent extent = extent_of(0);
+  int chosen = 0;
+  if (!fits(extent)) {
+    int lo = 1, hi = 4;
+    Extent at_hi = core;
+    while (lo < hi) {
+      const int mid = (lo + hi) / 2;
+      Extent e = extent_of(mid);
+      if (fits(e))
+        hi = mid, at_hi = std::move(e);
+      else
+        lo = mid + 1;
     }
+    chosen = hi;
+    extent = std::move(at_hi);
   }
-  if (share == 0) return std::nullopt;
+  const double share = kExtentLevels[chosen];
   // Above half the blob is smaller than the dot: its rim (the anti-aliased edge, about a
   // pixel wide) is added back so the reported size does not depend on the share.
   const double diameter = share > kExtentLevels[0]
                               ? extent.diameter + (share - kExtentLevels[0]) * 2.5
                               : extent.diameter;
+  // A dot cut off from a darker feature at a high share of its peak is a small blob with a
+  // ragged edge (the lower-lid dot against the iris, more so in noise): less round than a
+  // whole dot measured at half.
+  const double least_roundness =
+      share > kExtentLevels[0] ? options.min_roundness_merged : options.min_roundness;
   if (diameter < options.min_diameter_px || diameter > options.max_diameter_px ||
-      extent.roundness < options.min_roundness || extent.elongation > options.max_elongation)
+      extent.roundness < least_roundness || extent.elongation > options.max_elongation)
     return std::nullopt;
   cv::Point2d centre = extent.centre;
 
@@ -157,11 +287,12 @@ std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double rad
   // small floor keeps background texture inside the disc from pulling the centre.
   const float floor = 0.15f * peak_value;
   const double disc = diameter / 2 + 2.0;
-  // Beside a darker feature only the dot's own blob and its rim count: the feature's pixels
-  // inside the disc would pull the centre toward it.
+  // Only the dot's own blob and its rim (one pixel around it) count: a darker feature's
+  // pixels inside the disc (the iris beside a lid dot, the lips beside a lip dot, even when
+  // they do not merge with the dot at half its contrast) would pull the centre toward it,
+  // by about half a pixel on the rendered head.
   cv::Mat own;
-  if (share > kExtentLevels[0])
-    cv::dilate(extent.region, own, cv::getStructuringElement(cv::MORPH_CROSS, {3, 3}));
+  cv::dilate(extent.region, own, cv::getStructuringElement(cv::MORPH_CROSS, {3, 3}));
   for (int iteration = 0; iteration < 3; ++iteration) {
     double sw = 0, sx = 0, sy = 0;
     const int x0 = std::max(0, static_cast<int>(centre.x - disc));
@@ -181,8 +312,31 @@ std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double rad
     if (sw <= 0) return std::nullopt;
     centre = {sx / sw, sy / sw};
   }
-  return Dot{{centre.x + window.x, centre.y + window.y}, diameter, peak_value};
+  // What lies just outside the dot: a dot on skin is ringed by skin, the pupil by the iris
+  // (dark), so the ring's median contrast tells a pupil from a dot of the same size.
+  thread_local std::vector<float> ring;
+  ring.clear();
+  const double inner = diameter / 2 + 1.5, outer = diameter / 2 + 3.5;
+  for (int y = std::max(0, static_cast<int>(centre.y - outer));
+       y <= std::min(c.rows - 1, static_cast<int>(centre.y + outer + 1)); ++y) {
+    const float* row = c.ptr<float>(y);
+    for (int x = std::max(0, static_cast<int>(centre.x - outer));
+         x <= std::min(c.cols - 1, static_cast<int>(centre.x + outer + 1)); ++x) {
+      const double dx = x - centre.x, dy = y - centre.y, r2 = dx * dx + dy * dy;
+      if (r2 >= inner * inner && r2 <= outer * outer) ring.push_back(row[x]);
+    }
+  }
+  double surround = 0;
+  if (!ring.empty()) {
+    auto mid = ring.begin() + static_cast<long>(ring.size() / 2);
+    std::nth_element(ring.begin(), mid, ring.end());
+    surround = std::max(0.0, static_cast<double>(*mid) / peak_value);
+  }
+  if (surround > options.max_surround) return std::nullopt;
+  return Dot{{centre.x + window.x, centre.y + window.y}, diameter, peak_value, surround};
 }
+
+}  // namespace
 
 std::vector<Dot> detect_dots(const cv::Mat& gray, const DotOptions& options, cv::Rect roi) {
   CV_Assert(gray.type() == CV_8UC1);

@@ -26,15 +26,22 @@ struct DotOptions {
   double min_contrast = 20;  // grey levels between a dot's core and its surroundings
   // Blob area / area of the smallest ellipse of its own orientation and aspect holding it.
   double min_roundness = 0.55;
+  double min_roundness_merged = 0.4;  // the same for a dot touching a darker feature
   // Long / short axis: a round dot on skin turned up to ~70 degrees from the camera (the chin
   // seen from the front).
   double max_elongation = 3;
+  // Largest median contrast of the ring just outside a dot, as a share of the dot's: the
+  // pupil, ringed by the dark iris, is as round and dark as a dot but fails this.
+  double max_surround = 0.55;
 };
 
 struct Dot {
   cv::Point2d center;
   double diameter = 0;  // equivalent-area diameter, pixels
   double contrast = 0;  // grey levels, positive for the expected polarity
+  // Median contrast of a ring just outside the dot, as a share of `contrast`: near 0 for a
+  // dot on skin, high for a dark disc inside a darker ring (the pupil in the iris).
+  double surround = 0;
 };
 
 // Every dot in `gray` (8-bit, one channel) within `roi` (all of it when empty), in
@@ -45,5 +52,12 @@ std::vector<Dot> detect_dots(const cv::Mat& gray, const DotOptions& options, cv:
 // when there is no dot there that passes the options' checks.
 std::optional<Dot> refine_dot(const cv::Mat& gray, cv::Point2d guess, double radius,
                               const DotOptions& options);
+
+// Every dot whose core lies within `radius` of `guess` (up to `most`), nearest first: for
+// looking a lost marker up beside dark features that are no dots (the pupil, an eyebrow),
+// where the strongest point near the guess is not the marker. Peaks weaker than
+// `least_contrast` (grey levels) are not measured.
+std::vector<Dot> dots_near(const cv::Mat& gray, cv::Point2d guess, double radius,
+                           const DotOptions& options, int most = 4, double least_contrast = 0);
 
 }  // namespace rostro::tracking

@@ -32,6 +32,53 @@ cv::Point2d apply(const cv::Matx23d& m, cv::Point2d p) {
   return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
 }
 
+constexpr double kNoPair = 1e12;
+
+// The column given to each row that minimises the total cost (rows <= columns): the
+// Hungarian method with potentials, O(rows^2 x columns). -1 for no row (never, when every row
+// has a finite column).
+std::vector<int> min_cost_assignment(const std::vector<std::vector<double>>& cost) {
+  const size_t n = cost.size();
+  if (n == 0) return {};
+  const size_t m = cost[0].size();
+  std::vector<double> u(n + 1, 0), v(m + 1, 0);
+  std::vector<size_t> p(m + 1, 0), way(m + 1, 0);  // p[j]: row (1-based) holding column j
+  for (size_t i = 1; i <= n; ++i) {
+    p[0] = i;
+    size_t j0 = 0;
+    std::vector<double> minv(m + 1, std::numeric_limits<double>::infinity());
+    std::vector<bool> used(m + 1, false);
+    do {
+      used[j0] = true;
+      const size_t i0 = p[j0];
+      double delta = std::numeric_limits<double>::infinity();
+      size_t j1 = 0;
+      for (size_t j = 1; j <= m; ++j) {
+        if (used[j]) continue;
+        const double cur = cost[i0 - 1][j - 1] - u[i0] - v[j];
+        if (cur < minv[j]) minv[j] = cur, way[j] = j0;
+        if (minv[j] < delta) delta = minv[j], j1 = j;
+      }
+      for (size_t j = 0; j <= m; ++j) {
+        if (used[j])
+          u[p[j]] += delta, v[j] -= delta;
+        else
+          minv[j] -= delta;
+      }
+      j0 = j1;
+    } while (p[j0] != 0);
+    do {
+      const size_t j1 = way[j0];
+      p[j0] = p[j1];
+      j0 = j1;
+    } while (j0 != 0);
+  }
+  std::vector<int> row_column(n, -1);
+  for (size_t j = 1; j <= m; ++j)
+    if (p[j] != 0) row_column[p[j] - 1] = static_cast<int>(j - 1);
+  return row_column;
+}
+
 }  // namespace
 
 cv::Point2d Identification::project(cv::Point2d frontal_mm) const {
@@ -156,32 +203,35 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
   }
   if (best.matched < 0) return id;
 
-  // A real face is not the layout's frontal plane: a dot left over after the fit (a
-  // cheekbone, where the face curves away) may take a leftover detection further out, up
-  // to nearly its spacing, when no other layout dot's place is nearer that detection.
+  // A real face is not the layout's frontal plane: where it curves away (the cheekbones, the
+  // chin under a nod) a dot can lie most of a spacing from where the fit puts it, nearer a
+  // neighbour's place than its own. Matching one pair at a time, nearest first, then hands
+  // the neighbour's detection to the wrong dot (the chin takes the chin boss's dot and the
+  // chin boss is left without). The final matching is the assignment of detections to
+  // layout dots with the least total squared distance, up to 0.8 of each dot's spacing, a
+  // dot left unmatched costing as much as one at that limit: two dots both shifted the same
+  // way then each keep their own detection.
   {
     const cv::Matx23d& m = best.mapping;
     const double scale = std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
-    std::vector<cv::Point2d> projected;
-    for (const auto& p : layout_points) projected.push_back(apply(m, p));
-    std::vector<bool> taken(dots.size(), false);
-    for (int k : best.match)
-      if (k >= 0) taken[static_cast<size_t>(k)] = true;
-    for (size_t i = 0; i < layout_dots.size(); ++i) {
-      if (best.match[i] >= 0) continue;
-      int pick = -1;
-      double pick_distance = 0.8 * spacing[i] * scale;
-      for (size_t k = 0; k < dots.size(); ++k) {
-        if (taken[k]) continue;
-        const double d = cv::norm(dots[k].center - projected[i]);
-        if (d >= pick_distance) continue;
-        bool nearer_other = false;
-        for (size_t j = 0; j < projected.size(); ++j)
-          if (j != i && cv::norm(dots[k].center - projected[j]) < d) nearer_other = true;
-        if (!nearer_other) pick = static_cast<int>(k), pick_distance = d;
+    const size_t n = layout_dots.size(), k_count = dots.size();
+    std::vector<double> limit(n);
+    std::vector<std::vector<double>> cost(n, std::vector<double>(k_count + n, kNoPair));
+    for (size_t i = 0; i < n; ++i) {
+      const cv::Point2d p = apply(m, layout_points[i]);
+      limit[i] = 0.8 * spacing[i] * scale;
+      for (size_t k = 0; k < k_count; ++k) {
+        const double d = cv::norm(dots[k].center - p);
+        if (d < limit[i]) cost[i][k] = d * d;
       }
-      if (pick >= 0) best.match[i] = pick, taken[static_cast<size_t>(pick)] = true;
+      cost[i][k_count + i] = limit[i] * limit[i];  // left unmatched
     }
+    const std::vector<int> assigned = min_cost_assignment(cost);
+    for (size_t i = 0; i < n; ++i)
+      best.match[i] = assigned[i] >= 0 && assigned[i] < static_cast<int>(k_count) &&
+                              cost[i][static_cast<size_t>(assigned[i])] < kNoPair
+                          ? assigned[i]
+                          : -1;
   }
   id.layout_to_image = best.mapping;
   id.mapped = true;

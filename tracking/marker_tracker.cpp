@@ -8,6 +8,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "tracking/identify.hpp"
+#include "tracking/lk_pyramid.hpp"
 
 namespace rostro::tracking {
 namespace {
@@ -47,8 +48,14 @@ struct MarkerTracker::Impl {
   std::vector<double> spacing;  // nearest other marker at the start, pixels
   std::map<std::string, cv::Point2d> start_positions;
   bool started = false;
-  cv::Mat gray;
-  std::vector<cv::Mat> previous_pyramid, pyramid;
+  cv::Mat gray;          // this frame; a view of the caller's image when it is grey already
+  cv::Mat gray_storage;  // conversion buffer for colour input, reused frame to frame
+  // The LK pyramids cover only the region the markers occupy (plus room for motion), not the
+  // whole frame: at 1280x720 a fifth to a half of the pixels. LK needs both pyramids of one
+  // size, so the region keeps its size from frame to frame and only moves; it is resized
+  // (the new frame's pyramid built twice) when the markers outgrow it or shrink well inside.
+  LkPyramid previous_pyramid, pyramid;
+  cv::Rect previous_region, region;
 
   Impl(MarkerLayout l, TrackerOptions o)
       : layout(std::move(l)),
@@ -75,18 +82,102 @@ struct MarkerTracker::Impl {
     return o;
   }
 
+  // Colour input is converted to grey only where the tracker looks (the pyramid region and
+  // the windows it searches), not over the whole frame: at 1280x720 the full conversion
+  // costs about 0.3 ms, a fifth of a frame's tracking.
+  const cv::Mat* colour = nullptr;
+  std::vector<cv::Rect> converted;
+
   void to_gray(const cv::Mat& image) {
-    if (image.channels() == 3)
-      cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-    else if (image.channels() == 4)
-      cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
-    else
-      image.copyTo(gray);  // the pyramid keeps it: never share the caller's buffer
+    converted.clear();
+    if (image.channels() == 3 || image.channels() == 4) {
+      colour = &image;
+      gray_storage.create(image.size(), CV_8UC1);
+      gray = gray_storage;
+    } else {
+      // Only read during this call: the pyramid copies what it keeps (no reuse of the input).
+      colour = nullptr;
+      gray = image;
+    }
+  }
+
+  // Makes sure the grey image holds this frame's pixels inside `r`.
+  void ensure_gray(cv::Rect r) {
+    if (!colour) return;
+    r &= cv::Rect(0, 0, gray.cols, gray.rows);
+    if (r.empty()) return;
+    for (const cv::Rect& c : converted)
+      if ((r & c) == r) return;
+    cv::Mat out = gray(r);
+    cv::cvtColor((*colour)(r), out,
+                 colour->channels() == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
+    converted.push_back(r);
+  }
+  void ensure_gray_around(cv::Point2d p, double radius) {
+    if (!colour) return;
+    const int half = static_cast<int>(std::ceil(radius + options.dots.max_diameter_px / 2 + 3));
+    ensure_gray({static_cast<int>(std::lround(p.x)) - half,
+                 static_cast<int>(std::lround(p.y)) - half, 2 * half + 1, 2 * half + 1});
+  }
+
+  // ---- the region the pyramids cover ----------------------------------------------------
+
+  // The markers' bounding box (last known places, tag corners included) with room for a
+  // frame's motion and the LK window at the top level.
+  cv::Rect needed_region() const {
+    double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+    auto add = [&](cv::Point2d p) {
+      x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x),
+      y1 = std::max(y1, p.y);
+    };
+    for (size_t i = 0; i < states.size(); ++i) {
+      const MarkerState& s = states[i];
+      if (s.spec->is_tag())
+        for (const auto& c : s.valid ? s.corners : reference_corners[i]) add(c);
+      else
+        add(s.valid ? s.position : reference[i]);
+    }
+    const double margin = options.region_margin_px +
+                          0.5 * options.lk_window * static_cast<double>(1 << options.lk_levels);
+    const cv::Rect r(cv::Point(static_cast<int>(std::floor(x0 - margin)),
+                               static_cast<int>(std::floor(y0 - margin))),
+                     cv::Point(static_cast<int>(std::ceil(x1 + margin)),
+                               static_cast<int>(std::ceil(y1 + margin))));
+    return r & cv::Rect(0, 0, gray.cols, gray.rows);
+  }
+
+  // A region of `size` centred on `want`, inside the image.
+  cv::Rect placed(cv::Size size, const cv::Rect& want) const {
+    size.width = std::min(size.width, gray.cols), size.height = std::min(size.height, gray.rows);
+    const int cx = want.x + want.width / 2, cy = want.y + want.height / 2;
+    const int x = std::clamp(cx - size.width / 2, 0, gray.cols - size.width);
+    const int y = std::clamp(cy - size.height / 2, 0, gray.rows - size.height);
+    return {x, y, size.width, size.height};
+  }
+
+  // The size a region should get when it is (re)sized: the need plus a tenth each way, so
+  // that ordinary motion and expressions do not resize it again.
+  cv::Size grown(const cv::Rect& need) const {
+    return {std::min(gray.cols, need.width + need.width / 5 + 16),
+            std::min(gray.rows, need.height + need.height / 5 + 16)};
+  }
+
+  bool fits(cv::Size size, const cv::Rect& need) const {
+    const bool holds = (size.width >= need.width || size.width == gray.cols) &&
+                       (size.height >= need.height || size.height == gray.rows);
+    const cv::Size ideal = grown(need);
+    const bool not_too_big = static_cast<double>(size.area()) <= 1.5 * ideal.area();
+    return holds && not_too_big;
+  }
+
+  void build_pyramid(const cv::Rect& r, LkPyramid& out) const {
+    out.build(gray(r), {options.lk_window, options.lk_window}, options.lk_levels);
   }
 
   // ---- start of the take ---------------------------------------------------------------
 
   void start() {
+    ensure_gray({0, 0, gray.cols, gray.rows});
     std::vector<TagDetection> tags =
         layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
     std::vector<std::pair<cv::Point2d, cv::Point2d>> known;  // frontal -> image
@@ -198,16 +289,29 @@ struct MarkerTracker::Impl {
     const cv::Size window(options.lk_window, options.lk_window);
     const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
     if (!before.empty()) {
-      cv::calcOpticalFlowPyrLK(previous_pyramid, pyramid, before, after, status, err, window,
-                               options.lk_levels, stop);
-      back = before;
-      cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid, after, back, status_back, err, window,
-                               options.lk_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+      // Each pyramid has its own region: points go to its coordinates and back.
+      const cv::Point2f from_tl(previous_region.tl()), to_tl(region.tl());
+      std::vector<cv::Point2f> local_before(before.size());
+      after.resize(before.size());
+      for (size_t k = 0; k < before.size(); ++k)
+        local_before[k] = before[k] - from_tl, after[k] = before[k] - to_tl;
+      // Derivatives only where LK reads them: around the points it follows from each pyramid.
+      previous_pyramid.derivatives(local_before);
+      cv::calcOpticalFlowPyrLK(previous_pyramid.as_lk_input(), pyramid.as_lk_input(), local_before,
+                               after, status, err, window, options.lk_levels, stop,
+                               cv::OPTFLOW_USE_INITIAL_FLOW);
+      back = local_before;
+      pyramid.derivatives(after);
+      cv::calcOpticalFlowPyrLK(pyramid.as_lk_input(), previous_pyramid.as_lk_input(), after, back,
+                               status_back, err, window, options.lk_levels, stop,
+                               cv::OPTFLOW_USE_INITIAL_FLOW);
+      for (size_t k = 0; k < before.size(); ++k) after[k] += to_tl, back[k] += from_tl;
     }
 
     // 2. Dots: check and snap to the centre. Tags: re-detect near the moved corners.
     std::vector<std::array<cv::Point2d, 4>> tag_guess(states.size());
     std::vector<int> tag_corner_count(states.size(), 0);
+    std::vector<bool> tag_corners_held(states.size(), true);
     std::vector<bool> was_valid(states.size());
     for (size_t i = 0; i < states.size(); ++i) was_valid[i] = states[i].valid;
     for (size_t k = 0; k < before.size(); ++k) {
@@ -215,12 +319,15 @@ struct MarkerTracker::Impl {
       if (s.spec->is_tag()) {
         int& c = tag_corner_count[owner[k]];
         tag_guess[owner[k]][c] = status[k] ? cv::Point2d(after[k]) : s.corners[c];
+        if (!status[k] || !status_back[k] || cv::norm(back[k] - before[k]) > options.max_fb_error)
+          tag_corners_held[owner[k]] = false;
         ++c;
         continue;
       }
       const double fb = cv::norm(back[k] - before[k]);
       s.valid = false;
       if (!status[k] || !status_back[k] || fb > options.max_fb_error) continue;
+      ensure_gray_around(cv::Point2d(after[k]), options.max_snap);
       auto d = refine_dot(gray, cv::Point2d(after[k]), options.max_snap, options.dots);
       if (!d || cv::norm(d->center - cv::Point2d(after[k])) > options.max_snap ||
           !dot_passes(owner[k], *d))
@@ -230,8 +337,19 @@ struct MarkerTracker::Impl {
       s.quality = std::clamp(d->contrast / reference_contrast[owner[k]], 0.0, 1.0) *
                   (1 - 0.5 * fb / options.max_fb_error);
     }
-    for (size_t i = 0; i < states.size(); ++i)
-      if (states[i].spec->is_tag() && was_valid[i]) find_tag(i, tag_guess[i]);
+    // A tag is rigid: between detections (every few frames) LK on its corners follows it, as
+    // long as all four corners pass the round trip and the square keeps its size.
+    const bool detect_tags = ++frames_since_tag_detection >= options.tag_redetect_every;
+    if (detect_tags) frames_since_tag_detection = 0;
+    for (size_t i = 0; i < states.size(); ++i) {
+      if (!states[i].spec->is_tag() || !was_valid[i]) continue;
+      if (!detect_tags && tag_corners_held[i] && keeps_shape(states[i].corners, tag_guess[i])) {
+        states[i].corners = tag_guess[i];
+        states[i].position = diagonal_crossing(tag_guess[i]);
+        continue;
+      }
+      find_tag(i, tag_guess[i]);
+    }
 
     // 3a. A dot must move roughly as its neighbours do: LK that slid onto another dot (a
     //     neighbour's, while its own was hidden) moves very differently from them.
@@ -275,6 +393,28 @@ struct MarkerTracker::Impl {
       if (!states[i].valid && has_prediction[i]) reacquire(i);
   }
 
+  int frames_since_tag_detection = 0;
+
+  // Side lengths within 10% of the last ones: LK did not slide a corner along an edge.
+  static bool keeps_shape(const std::array<cv::Point2d, 4>& was,
+                          const std::array<cv::Point2d, 4>& now) {
+    for (int k = 0; k < 4; ++k) {
+      const double a = cv::norm(was[k] - was[(k + 1) % 4]), b = cv::norm(now[k] - now[(k + 1) % 4]);
+      if (std::abs(a - b) > 0.1 * a + 0.5) return false;
+    }
+    return true;
+  }
+
+  // The centre of a square seen in perspective: where its diagonals cross (as libapriltag's
+  // centre, the homography's image of the tag centre).
+  static cv::Point2d diagonal_crossing(const std::array<cv::Point2d, 4>& c) {
+    const cv::Point2d d1 = c[2] - c[0], d2 = c[3] - c[1], r = c[1] - c[0];
+    const double den = d1.x * d2.y - d1.y * d2.x;
+    if (std::abs(den) < 1e-9) return mean_of(c);
+    const double t = (r.x * d2.y - r.y * d2.x) / den;
+    return c[0] + t * d1;
+  }
+
   bool find_tag(size_t i, const std::array<cv::Point2d, 4>& guess) {
     MarkerState& s = states[i];
     const double side = cv::norm(guess[0] - guess[1]);
@@ -283,6 +423,7 @@ struct MarkerTracker::Impl {
     // Large tags are found as well at half resolution, for a quarter of the cost; the
     // corners are refined on the full image either way.
     const float decimation = side > options.tag_decimate_above_px ? 2.0f : 1.0f;
+    ensure_gray(roi);
     for (const TagDetection& t : window_detector.detect(gray, roi, decimation)) {
       if (t.marker_id() != s.spec->id) continue;
       if (cv::norm(t.center - mean_of(guess)) > side) continue;
@@ -357,21 +498,33 @@ struct MarkerTracker::Impl {
     }
     const cv::Point2d expected = predicted_at(i);
     const double radius = options.search_fraction * spacing[i] * scale;
-    auto d = refine_dot(gray, expected, radius, options.dots);
-    if (!d || cv::norm(d->center - expected) > radius || !dot_passes(i, *d)) return;
-    // A dot that belongs to a valid neighbour, or lies nearer another lost marker's expected
-    // place than to this one's, is not this marker.
-    const double own = cv::norm(d->center - expected);
+    ensure_gray_around(expected, radius);
+    // Every dot near the expected place, nearest first: the strongest one there may be a dark
+    // feature that is no marker (the pupil beside a lid dot) and fail the checks.
+    // (Peaks too faint to pass dot_passes() are not even measured.)
+    const double least = options.min_contrast_ratio * reference_contrast[i];
+    for (const Dot& d : dots_near(gray, expected, radius, options.dots, 4, least)) {
+      if (cv::norm(d.center - expected) > radius || !dot_passes(i, d)) continue;
+      if (!belongs_to(i, d.center, scale)) continue;
+      s.valid = true;
+      s.position = d.center;
+      s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
+      return;
+    }
+  }
+
+  // A dot that belongs to a valid neighbour, or lies nearer another lost marker's expected
+  // place than to this one's, is not marker i.
+  bool belongs_to(size_t i, cv::Point2d at, double scale) const {
+    const double own = cv::norm(at - predicted_at(i));
     for (size_t j = 0; j < states.size(); ++j) {
       if (j == i || states[j].spec->is_tag()) continue;
-      if (states[j].valid && cv::norm(states[j].position - d->center) < 0.5 * spacing[j] * scale)
-        return;
-      if (!states[j].valid && has_prediction[j] && cv::norm(predicted_at(j) - d->center) < own)
-        return;
+      if (states[j].valid && cv::norm(states[j].position - at) < 0.5 * spacing[j] * scale)
+        return false;
+      if (!states[j].valid && has_prediction[j] && cv::norm(predicted_at(j) - at) < own)
+        return false;
     }
-    s.valid = true;
-    s.position = d->center;
-    s.quality = 0.9 * std::clamp(d->contrast / reference_contrast[i], 0.0, 1.0);
+    return true;
   }
 };
 
@@ -389,19 +542,34 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
   Impl& m = *impl_;
   m.to_gray(image);
   if (m.started) {
-    cv::buildOpticalFlowPyramid(m.gray, m.pyramid, {m.options.lk_window, m.options.lk_window},
-                                m.options.lk_levels);
+    // LK needs this frame's pyramid the size of the previous one: it moves with the markers.
+    const cv::Rect need = m.needed_region();
+    m.region = m.placed(m.previous_region.size(), need);
+    m.ensure_gray(m.region);
+    m.build_pyramid(m.region, m.pyramid);
     m.follow();
     bool any =
         std::any_of(m.states.begin(), m.states.end(), [](const MarkerState& s) { return s.valid; });
-    if (!any) m.started = false;  // everything lost: identify again from scratch
+    if (!any) {
+      m.started = false;  // everything lost: identify again from scratch
+    } else {
+      const cv::Rect now = m.needed_region();
+      if (!m.fits(m.region.size(), now)) {
+        m.region = m.placed(m.grown(now), now);
+        m.ensure_gray(m.region);
+        m.build_pyramid(m.region, m.pyramid);
+      }
+    }
   } else {
     m.start();
-    if (m.started)
-      cv::buildOpticalFlowPyramid(m.gray, m.pyramid, {m.options.lk_window, m.options.lk_window},
-                                  m.options.lk_levels);
+    if (m.started) {
+      const cv::Rect need = m.needed_region();
+      m.region = m.placed(m.grown(need), need);
+      m.build_pyramid(m.region, m.pyramid);
+    }
   }
   std::swap(m.previous_pyramid, m.pyramid);
+  m.previous_region = m.region;
 
   TrackedFrame out;
   out.frame = frame;

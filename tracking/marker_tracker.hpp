@@ -3,13 +3,21 @@
 //
 // First frame: every dot and tag is detected and identified (identify.hpp), or the markers
 // start where a file of starting positions puts them. Then, per frame:
-//  1. dots move by pyramidal Lucas-Kanade from the previous frame, checked forward-backward;
-//  2. each result is snapped to the dot's measured centre (dot_detector.hpp), so errors never
-//     add up; a dot whose contrast, size or position fails the checks turns invalid;
-//  3. tags are re-detected in a small window around where the dots' motion puts them;
+//  1. dots and tag corners move by pyramidal Lucas-Kanade from the previous frame, checked
+//     forward-backward. The pyramid covers only the region the markers occupy (plus room for
+//     a frame's motion) and its derivatives are computed only where LK reads them
+//     (lk_pyramid.hpp); colour frames are converted to grey only there and in the windows
+//     searched;
+//  2. each dot is snapped to its measured centre (dot_detector.hpp), so errors never add up;
+//     a dot whose contrast, size, shape or surroundings fail the checks turns invalid, and so
+//     does one that moved unlike its neighbours or landed on another's spot;
+//  3. tags are re-detected in a small window around where LK puts their corners every few
+//     frames (and whenever a corner fails LK's round trip or the square changes size); in
+//     between, LK on their corners follows them (tags are rigid);
 //  4. an invalid marker is looked for near where its valid neighbours say it should be
-//     (an affine fit of the neighbours' start positions to their current ones) and comes
-//     back with its own identity; it is never guessed while unseen.
+//     (an affine fit of the neighbours' start positions to their current ones), among every
+//     dot there, nearest first, and comes back with its own identity; it is never guessed
+//     while unseen.
 
 #include <map>
 #include <memory>
@@ -29,11 +37,13 @@ struct TrackerOptions {
   AprilTagOptions tags;               // for the first frame (whole image)
   int lk_window = 13;                 // pixels
   int lk_levels = 2;                  // pyramid levels above the image: motion up to ~25 px/frame
+  double region_margin_px = 24;       // LK region: the markers' box + this + the top window
   double max_fb_error = 1.0;          // pixels, forward-backward round trip
   double max_snap = 2.5;              // pixels between LK's answer and the dot's centre
   double min_contrast_ratio = 0.4;    // of the dot's contrast at identification
   double tag_margin = 0.3;            // tag search window: expected box + this x tag size
   double tag_decimate_above_px = 48;  // tags wider than this are searched at half resolution
+  int tag_redetect_every = 4;         // frames; in between LK follows the tags' corners
   double search_fraction = 0.45;      // re-acquisition radius, fraction of the nearest spacing
   // How far a dot's frame-to-frame motion may differ from its neighbours' (the larger of a
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.

@@ -1,0 +1,103 @@
+// Dark features that are no markers, and markers the layout misplaces: the pupil (a dark
+// disc in the darker iris) is not taken for a dot, a lost lid dot is found beside it, and a
+// pair of dots both shifted from the layout's places (the chin under a nod) keep their names.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <opencv2/imgproc.hpp>
+
+#include "tracking/dot_detector.hpp"
+#include "tracking/identify.hpp"
+#include "tracking/layout.hpp"
+
+namespace {
+
+using namespace rostro::tracking;
+
+void disc(cv::Mat& image, cv::Point2d centre, double radius, int grey) {
+  constexpr int kShift = 4;  // sub-pixel centres and radii
+  const double k = 1 << kShift;
+  cv::circle(image, cv::Point(static_cast<int>(centre.x * k), static_cast<int>(centre.y * k)),
+             static_cast<int>(radius * k), cv::Scalar(grey), cv::FILLED, cv::LINE_AA, kShift);
+}
+
+// Skin, an iris with its pupil, and a lid dot just below the iris.
+struct EyeScene {
+  cv::Mat image = cv::Mat(120, 120, CV_8UC1, cv::Scalar(200));
+  cv::Point2d pupil{60.0, 50.0}, lid_dot{60.4, 66.6};
+  EyeScene() {
+    disc(image, pupil, 11, 80);   // iris, darker than skin, lighter than a dot
+    disc(image, pupil, 4.2, 25);  // pupil
+    disc(image, lid_dot, 4.0, 25);
+    cv::GaussianBlur(image, image, {0, 0}, 0.7);
+  }
+};
+
+TEST(DarkFeatures, PupilIsNotADot) {
+  EyeScene eye;
+  DotOptions options;
+  EXPECT_FALSE(refine_dot(eye.image, eye.pupil, 2, options).has_value());
+  auto dot = refine_dot(eye.image, eye.lid_dot, 2, options);
+  ASSERT_TRUE(dot.has_value());
+  EXPECT_LT(cv::norm(dot->center - eye.lid_dot), 0.25);
+  EXPECT_LT(dot->surround, 0.2);
+  // Without the ring check the pupil passes every other test: the check is what rejects it.
+  options.max_surround = 10;
+  auto pupil = refine_dot(eye.image, eye.pupil, 2, options);
+  ASSERT_TRUE(pupil.has_value());
+  EXPECT_GT(pupil->surround, 0.55);
+}
+
+TEST(DarkFeatures, LostDotIsFoundBesideThePupil) {
+  EyeScene eye;
+  // Looking between the two, the pupil is as near as the dot: every candidate comes back,
+  // nearest first, and only the dot passes.
+  const cv::Point2d guess(60, 59);
+  auto found = dots_near(eye.image, guess, 9, DotOptions{});
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_LT(cv::norm(found[0].center - eye.lid_dot), 0.25);
+}
+
+TEST(DarkFeatures, DotCentreIsNotPulledByAnAdjacentDarkFeature) {
+  // A dot touching a darker band (a lip, an eyebrow) without merging at half contrast.
+  cv::Mat image(80, 80, CV_8UC1, cv::Scalar(200));
+  cv::rectangle(image, cv::Rect(10, 45, 60, 6), cv::Scalar(150), cv::FILLED);
+  const cv::Point2d centre(40.3, 39.6);
+  disc(image, centre, 4.0, 30);
+  cv::GaussianBlur(image, image, {0, 0}, 0.7);
+  auto dot = refine_dot(image, centre, 2, DotOptions{});
+  ASSERT_TRUE(dot.has_value());
+  EXPECT_LT(cv::norm(dot->center - centre), 0.15);
+}
+
+TEST(Identify, TwoDotsShiftedTheSameWayKeepTheirNames) {
+  const MarkerLayout layout =
+      load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
+  const MarkerSpec* chin = layout.find("chin");
+  const MarkerSpec* chin_boss = layout.find("chin_boss");
+  ASSERT_TRUE(chin && chin_boss);
+  const double spacing = cv::norm(chin->frontal() - chin_boss->frontal());
+  // Both 0.6 of their spacing further down than the layout says: the chin boss's dot is then
+  // nearer the chin's place than its own.
+  const cv::Point2d down(0, 0.6 * spacing);
+  const double px_per_mm = 3;
+  const cv::Point2d origin(320, 240);
+  std::vector<Dot> dots;
+  std::map<std::string, cv::Point2d> truth;
+  for (const MarkerSpec& m : layout.markers) {
+    if (m.is_tag()) continue;
+    cv::Point2d p = m.frontal();
+    if (&m == chin || &m == chin_boss) p += down;
+    truth[m.id] = origin + px_per_mm * p;
+    dots.push_back({truth[m.id], 8, 100, 0});
+  }
+  const Identification id = identify_markers(layout, dots, {});
+  for (const auto& [name, at] : truth) {
+    auto it = id.dots.find(name);
+    ASSERT_NE(it, id.dots.end()) << name;
+    EXPECT_LT(cv::norm(it->second.center - at), 1e-9) << name;
+  }
+}
+
+}  // namespace
