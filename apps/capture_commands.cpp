@@ -1,6 +1,7 @@
 // `rostro capture`: frames (or a tracks CSV) in, a .fap out, streamed frame by frame so that
 // Ctrl-C or a camera unplugged mid-take leaves a valid file of every frame so far. Wiring
-// only: capture -> tracking -> (calib when no profile) -> mapping -> facecore's .fap sink.
+// only: capture -> tracking -> mapping::TakeMapper (calib when no profile, then the fit) ->
+// facecore's .fap sink.
 
 #include <algorithm>
 #include <cstdio>
@@ -12,7 +13,6 @@
 #include "apps/commands.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
-#include "calib/actor_prior.hpp"
 #include "calib/camera_intrinsics.hpp"
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
@@ -20,6 +20,7 @@
 #include "facecore/face_model.hpp"
 #include "facecore/fap_io.hpp"
 #include "mapping/fap_mapper.hpp"
+#include "mapping/take_mapper.hpp"
 #include "render/face_renderer.hpp"
 #include "render/preview.hpp"
 #include "render/video_writer.hpp"
@@ -126,34 +127,15 @@ void run_capture(const CaptureArgs& a) {
     throw InputError(
         "--preview needs frames: give a video, image folder or camera, not a tracks CSV");
   const bool want_views = !a.preview.empty();
-  std::deque<tracking::TrackedFrame> pending;  // frames read for calibration, mapped after
-  std::deque<cv::Mat> pending_views;           // their preview images
-  calib::ActorProfile profile;
-  if (!a.actor.empty()) {
-    profile = calib::read_actor_profile(a.actor);
-  } else {
-    const long wanted = std::max(1L, static_cast<long>(a.calibration_seconds * input.fps() + 0.5));
-    tracking::TrackedFrame f;
-    cv::Mat view;
-    while (static_cast<long>(pending.size()) < wanted &&
-           input.next(f, want_views ? &view : nullptr)) {
-      pending.push_back(f);
-      if (want_views) pending_views.push_back(view);
-    }
-    const calib::CameraIntrinsics camera = a.camera.empty()
-                                               ? calib::default_intrinsics(input.size())
-                                               : calib::read_intrinsics(a.camera);
-    const calib::ActorPrior prior = calib::load_actor_prior();
-    profile = calib::calibrate_actor({pending.begin(), pending.end()}, camera,
-                                     calib::actor_calibration_options(layout, prior, "actor"));
-    std::fprintf(stderr,
-                 "rostro capture: no --actor given: calibrated the actor from the first %zu "
-                 "frames (%.1f s), assumed neutral%s\n",
-                 pending.size(), a.calibration_seconds,
-                 a.camera.empty() ? ", with default camera intrinsics" : "");
-  }
-  if (!a.camera.empty() && !a.actor.empty()) profile.camera = calib::read_intrinsics(a.camera);
-  auto mapper = mapping::make_fap_mapper(profile, options);
+  std::optional<calib::ActorProfile> profile;
+  if (!a.actor.empty()) profile = calib::read_actor_profile(a.actor);
+  // --camera wins; else the profile's own intrinsics; else the documented default.
+  const calib::CameraIntrinsics camera = !a.camera.empty() ? calib::read_intrinsics(a.camera)
+                                         : profile         ? profile->camera
+                                                   : calib::default_intrinsics(input.size());
+  const long calibration_frames =
+      std::max(1L, static_cast<long>(a.calibration_seconds * input.fps() + 0.5));
+  mapping::TakeMapper take(layout, options, camera, std::move(profile), calibration_frames);
 
   FapHeader header;
   header.name = "rostro-capture";
@@ -165,33 +147,47 @@ void run_capture(const CaptureArgs& a) {
   if (want_views)
     preview = std::make_unique<CapturePreview>(a.preview, input.fps(), input.size().height);
 
-  InterruptScope interrupt;
+  std::deque<cv::Mat> views;  // preview images of the frames the mapper holds back
+  long done = 0;
+  bool announced = false;
   Progress progress("capture", input.total());
-  std::optional<std::string> failure;
-  try {
-    tracking::TrackedFrame f;
-    cv::Mat view;
-    long done = 0;
-    while (!interrupt.requested()) {
-      if (!pending.empty()) {
-        f = std::move(pending.front());
-        pending.pop_front();
-        if (want_views) {
-          view = std::move(pending_views.front());
-          pending_views.pop_front();
-        }
-      } else if (!input.next(f, want_views ? &view : nullptr)) {
-        break;
-      }
-      if (tracks) tracks->write(f);
-      const FapFrame faps = mapper->map(f);
+  // Writes the FAP frames the mapper hands back, each beside its own camera image.
+  const auto write = [&](const std::vector<FapFrame>& ready) {
+    if (take.self_calibrated() && !announced) {
+      announced = true;
+      std::fprintf(stderr,
+                   "rostro capture: no --actor given: calibrated the actor from the first %ld "
+                   "frames (%.1f s), assumed neutral%s\n",
+                   take.calibration_frames_used(), a.calibration_seconds,
+                   a.camera.empty() ? ", with default camera intrinsics" : "");
+    }
+    for (const FapFrame& faps : ready) {
       sink->write(faps);
-      if (preview) preview->write(view, faps);
+      if (preview) {
+        preview->write(views.front(), faps);
+        views.pop_front();
+      }
       progress.update(++done);
     }
-  } catch (const InputError& e) {
-    failure = e.what();  // a camera gone mid-take: keep every frame so far
+  };
+
+  InterruptScope interrupt;
+  std::optional<std::string> failure;
+  tracking::TrackedFrame f;
+  cv::Mat view;
+  while (!interrupt.requested()) {
+    try {
+      if (!input.next(f, want_views ? &view : nullptr)) break;
+    } catch (const InputError& e) {
+      failure = e.what();  // a camera gone mid-take: keep every frame so far
+      break;
+    }
+    if (tracks) tracks->write(f);
+    if (want_views) views.push_back(view);
+    write(take.push(f));
   }
+  // A stopped or broken take with nothing held back has nothing left to calibrate or map.
+  if (take.held_back() > 0 || !(failure || interrupt.requested())) write(take.finish());
   progress.finish();
   sink->finish();
   if (tracks) tracks->finish();

@@ -1,0 +1,60 @@
+#include "mapping/take_mapper.hpp"
+
+#include <algorithm>
+
+#include "calib/actor_calibration.hpp"
+#include "calib/actor_prior.hpp"
+
+namespace rostro::mapping {
+
+TakeMapper::TakeMapper(const tracking::MarkerLayout& layout, MapperOptions options,
+                       const calib::CameraIntrinsics& camera,
+                       std::optional<calib::ActorProfile> profile, long calibration_frames)
+    : layout_(layout),
+      options_(std::move(options)),
+      camera_(camera),
+      calibration_frames_(std::max(1L, calibration_frames)) {
+  if (profile) {
+    profile_ = std::move(*profile);
+    profile_.camera = camera_;
+    mapper_ = make_fap_mapper(profile_, options_);
+  }
+}
+
+TakeMapper::~TakeMapper() = default;
+
+std::vector<FapFrame> TakeMapper::push(const tracking::TrackedFrame& frame) {
+  if (mapper_) return {mapper_->map(frame)};
+  pending_.push_back(frame);
+  if (static_cast<long>(pending_.size()) < calibration_frames_) return {};
+  calibrate();
+  return drain();
+}
+
+std::vector<FapFrame> TakeMapper::finish() {
+  if (!mapper_) calibrate();
+  return drain();
+}
+
+std::optional<tracking::HeadPose> TakeMapper::last_pose() const {
+  return mapper_ ? mapper_->last_pose() : std::nullopt;
+}
+
+void TakeMapper::calibrate() {
+  // The prior is only needed here; the options point into it, so it lives as long as they do.
+  const calib::ActorPrior prior = calib::load_actor_prior();
+  profile_ = calib::calibrate_actor({pending_.begin(), pending_.end()}, camera_,
+                                    calib::actor_calibration_options(layout_, prior, "actor"));
+  calibrated_from_ = static_cast<long>(pending_.size());
+  mapper_ = make_fap_mapper(profile_, options_);
+}
+
+std::vector<FapFrame> TakeMapper::drain() {
+  std::vector<FapFrame> out;
+  out.reserve(pending_.size());
+  for (const tracking::TrackedFrame& f : pending_) out.push_back(mapper_->map(f));
+  pending_.clear();
+  return out;
+}
+
+}  // namespace rostro::mapping
