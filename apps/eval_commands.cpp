@@ -11,6 +11,7 @@
 
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
+#include "eval/closed_loop.hpp"
 #include "eval/eval_plots.hpp"
 #include "eval/report.hpp"
 #include "eval/suite.hpp"
@@ -197,6 +198,91 @@ void eval_suite(const SuiteArgs& a) {
   }
 }
 
+struct LoopArgs {
+  std::string file, layout, markdown, only, out;
+};
+
+std::string describe_drive(const eval::LoopScenario& s) {
+  std::string out = s.drive == "range_of_motion" ? "the built-in range of motion" : s.drive;
+  if (s.seconds > 0) out += fmt::format(", first {:g} s", s.seconds);
+  out += fmt::format(", {:g} s neutral lead-in", s.neutral_lead);
+  if (s.head.yaw_deg != 0 || s.head.pitch_deg != 0 || s.head.roll_deg != 0)
+    out += fmt::format(
+        ", head sweeps in FAPs 48-50: yaw +-{:g}, pitch +-{:g}, roll +-{:g} deg, "
+        "{:g} s period",
+        s.head.yaw_deg, s.head.pitch_deg, s.head.roll_deg, s.head.period_s);
+  else
+    out += ", head still";
+  return out;
+}
+
+void eval_loop(const LoopArgs& a) {
+  require_extension(a.markdown, ".md", "--markdown");
+  const eval::LoopDefinition loop = eval::load_closed_loop(
+      a.file.empty() ? eval::default_closed_loop_path() : std::filesystem::path(a.file));
+  std::vector<eval::LoopScenario> chosen;
+  const auto wanted = split_commas(a.only);
+  for (const auto& s : loop.scenarios)
+    if (wanted.empty() || std::find(wanted.begin(), wanted.end(), s.name) != wanted.end())
+      chosen.push_back(s);
+  if (chosen.empty()) throw InputError("--only " + a.only + ": no scenario of that name");
+  const FaceModel model = load_default_face_model();
+  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const tracking::MarkerLayout layout = tracking::load_layout(
+      a.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(a.layout));
+
+  std::vector<eval::LoopResult> results;
+  std::string skipped, scenarios;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    const auto& s = chosen[i];
+    if (!s.skip_reason.empty()) {
+      std::fprintf(stderr, "skipped %s: %s\n", s.name.c_str(), s.skip_reason.c_str());
+      skipped += fmt::format("- {} skipped: {}\n", s.name, s.skip_reason);
+      continue;
+    }
+    scenarios += fmt::format("- **{}**: {}.\n", s.name, describe_drive(s));
+    Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
+                      static_cast<long>(eval::loop_drive(s).frames.size()));
+    results.push_back(eval::run_loop_scenario(s, model, &library, layout,
+                                              [&](long done, long) { progress.update(done); }));
+    progress.finish();
+    if (!a.out.empty()) {
+      // The streams behind the tables, for `rostro eval faps --plot`.
+      const eval::LoopResult& r = results.back();
+      std::filesystem::create_directories(a.out);
+      const std::filesystem::path dir(a.out);
+      write_fap_stream(dir / (r.name + ".truth.fap"), r.drive);
+      for (const auto& score : r.scores) {
+        std::string label = eval::method_label(score.method);
+        std::replace(label.begin(), label.end(), ' ', '-');
+        label.erase(std::remove(label.begin(), label.end(), ','), label.end());
+        write_fap_stream(dir / (r.name + "." + label + ".fap"), score.estimate);
+      }
+    }
+  }
+  std::printf("%s\n\n", eval::loop_definitions().c_str());
+  std::fputs(eval::loop_summary_text(results).c_str(), stdout);
+  for (const auto& r : results) std::printf("\n%s", eval::loop_fap_table_text(r).c_str());
+  if (!a.markdown.empty()) {
+    std::string body = fmt::format(
+        "Written by `rostro eval loop --markdown` (rostro {}) on {}; scenarios in "
+        "`data/eval/closed_loop.json`. Each clip is rendered in-process at 640x480 (no video "
+        "file), tracked with automatic identification, and mapped by `mapping::TakeMapper` as "
+        "`rostro capture` maps a take without a profile: the actor calibrated from the first "
+        "second (the neutral lead-in), the clip's own camera intrinsics, the default "
+        "hierarchy.\n\n```sh\nrostro eval loop                               # prints the "
+        "tables\nrostro eval loop --markdown docs/accuracy.md   # and rewrites this "
+        "section\nrostro eval loop --only still,turns            # a subset\n```\n\n{}\n\n{}{}\n{}",
+        ROSTRO_VERSION, fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        eval::loop_definitions(), scenarios, skipped, eval::loop_summary_markdown(results));
+    for (const auto& r : results)
+      body += fmt::format("\n### {} ({} frames)\n\n{}", r.title, r.frames,
+                          eval::loop_fap_table_markdown(r));
+    eval::replace_markdown_section(a.markdown, "## Closed loop: FAPs", body);
+    std::printf("tables written to %s (section \"Closed loop: FAPs\")\n", a.markdown.c_str());
+  }
+}
+
 }  // namespace
 
 void add_eval_commands(CLI::App& app) {
@@ -267,6 +353,26 @@ void add_eval_commands(CLI::App& app) {
                     "write the table into this Markdown file's \"## Suite table\" section");
   suite->footer("Example:\n  rostro eval suite --markdown docs/accuracy.md");
   suite->callback([] { eval_suite(su); });
+
+  static LoopArgs lo;
+  CLI::App* loop = eval->add_subcommand(
+      "loop",
+      "Closed loop: synth clips driven by known FAPs, tracked, mapped (ceres, seed2d, ceres on "
+      "exact tracks) and scored per FAP");
+  loop->add_option("--file", lo.file,
+                   "closed-loop definition (default data/eval/closed_loop.json)");
+  loop->add_option("--layout", lo.layout, "marker layout JSON (default data/layouts/default.json)");
+  loop->add_option("--only", lo.only, "run only these scenarios, e.g. still,turns");
+  loop->add_option("--out", lo.out,
+                   "also write each scenario's truth and mapped streams here as .fap "
+                   "(NAME.truth.fap, NAME.ceres.fap, ...)");
+  loop->add_option("--markdown", lo.markdown,
+                   "write the tables into this Markdown file's \"## Closed loop: FAPs\" section");
+  loop->footer(
+      "Drives under shared: come from $ROSTRO_SHARED (default ../shared); absent ones are "
+      "skipped.\n\nExample:\n  rostro eval loop --only still,turns\n  rostro eval loop "
+      "--markdown docs/accuracy.md");
+  loop->callback([] { eval_loop(lo); });
 }
 
 }  // namespace rostro::app

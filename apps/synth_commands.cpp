@@ -9,6 +9,7 @@
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
 #include "calib/camera_intrinsics.hpp"
+#include "eval/head_sweeps.hpp"
 #include "eval/synth.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_io.hpp"
@@ -22,6 +23,7 @@ struct SynthArgs {
   std::string output, fap, layout, size = "640x480";
   double fps = 25, seconds = 0, neutral_lead = 0;
   eval::SynthOptions o;
+  eval::HeadSweeps head;  // turns written into the drive's FAPs 48-50
 };
 
 void synth(SynthArgs a) {
@@ -40,6 +42,8 @@ void synth(SynthArgs a) {
     if (keep < drive.frames.size()) drive.frames.resize(keep);
   }
   if (a.neutral_lead > 0) eval::prepend_neutral(drive, a.neutral_lead);
+  a.head.start_s = std::max(0.0, a.neutral_lead);  // the lead stays still for calibration
+  eval::add_head_sweeps(drive, a.head);
   drive.header.frame_count = static_cast<long>(drive.frames.size());
 
   const FaceModel model = load_default_face_model();
@@ -90,10 +94,19 @@ void add_synth_commands(CLI::App& app) {
   cmd->add_option("--distance-scale", a.o.distance_scale,
                   "camera distance relative to the automatic framing")
       ->capture_default_str();
-  cmd->add_option("--yaw", a.o.yaw_deg, "head turn amplitude left-right, degrees");
-  cmd->add_option("--pitch", a.o.pitch_deg, "head nod amplitude, degrees");
-  cmd->add_option("--roll", a.o.roll_deg, "head tilt amplitude, degrees");
-  cmd->add_option("--motion-period", a.o.motion_period_s, "seconds per head sweep")
+  cmd->add_option("--yaw", a.o.yaw_deg,
+                  "camera orbit left-right, degrees (moves the view, not the FAPs)");
+  cmd->add_option("--pitch", a.o.pitch_deg, "camera orbit up-down, degrees");
+  cmd->add_option("--roll", a.o.roll_deg, "camera tilt, degrees");
+  cmd->add_option("--motion-period", a.o.motion_period_s, "seconds per camera sweep")
+      ->capture_default_str();
+  cmd->add_option("--head-yaw", a.head.yaw_deg,
+                  "head turn amplitude, degrees, written into the drive's FAP 49 (after the "
+                  "neutral lead), so the truth .fap has it");
+  cmd->add_option("--head-pitch", a.head.pitch_deg,
+                  "head nod amplitude, degrees, into FAP 48 (at 0.73 x the yaw's frequency)");
+  cmd->add_option("--head-roll", a.head.roll_deg, "head tilt amplitude, degrees, into FAP 50");
+  cmd->add_option("--head-period", a.head.period_s, "seconds per head sweep")
       ->capture_default_str();
   cmd->add_option("--distance-amp", a.o.distance_amp, "relative distance change, e.g. 0.1");
   cmd->add_option("--brightness", a.o.brightness, "overall gain (0.4: low light)")
@@ -105,6 +118,7 @@ void add_synth_commands(CLI::App& app) {
   cmd->add_option("--seed", a.o.seed, "seed of every random choice")->capture_default_str();
   cmd->footer(
       "Example:\n  rostro synth -o clips/turn --yaw 25 --pitch 15 --noise 3 --seed 7\n"
+      "  rostro synth -o clips/nod --neutral-lead 1 --head-yaw 25 --head-pitch 15\n"
       "  rostro track clips/turn.mp4 -o turn.tracks.csv   # then\n"
       "  rostro eval tracks --truth clips/turn.truth.csv --tracks turn.tracks.csv");
   cmd->callback([] { synth(a); });

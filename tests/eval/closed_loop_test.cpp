@@ -1,0 +1,205 @@
+// The closed loop of issue 6: its definition file, head sweeps in the drive, and short clips
+// run end to end (render -> track -> TakeMapper -> score).
+
+#include "eval/closed_loop.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "facecore/error.hpp"
+#include "render/render_error.hpp"
+
+namespace rostro::eval {
+namespace {
+
+constexpr int kOpenJaw = 3, kHeadPitch = 48, kHeadYaw = 49;
+
+std::filesystem::path temp_file(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("rostro_loop_test_" + name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+// The message of the InputError `f` throws, or "" when it throws none.
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ClosedLoopFile, DefaultFileHasTheIssuesScenarios) {
+  const LoopDefinition d = load_closed_loop(default_closed_loop_path());
+  const LoopScenario* still = nullptr;
+  const LoopScenario* turns = nullptr;
+  for (const auto& s : d.scenarios) {
+    if (s.name == "still") still = &s;
+    if (s.name == "turns") turns = &s;
+  }
+  ASSERT_NE(still, nullptr);
+  ASSERT_NE(turns, nullptr);
+  EXPECT_TRUE(still->fap.empty());  // the range of motion
+  EXPECT_EQ(still->head.yaw_deg, 0);
+  EXPECT_DOUBLE_EQ(still->aim, 0.05);
+  EXPECT_EQ(turns->head.yaw_deg, 25);
+  EXPECT_EQ(turns->head.pitch_deg, 15);
+  EXPECT_DOUBLE_EQ(turns->aim, 0.08);
+  EXPECT_EQ(turns->neutral_lead, 1);  // the file's default
+  EXPECT_EQ(turns->synth.width, 640);
+}
+
+TEST(ClosedLoopFile, ErrorsNameTheFileAndTheKey) {
+  const auto unknown = temp_file("unknown.json", R"({"scenarios": [{"name": "a", "yawn": 3}]})");
+  const std::string e1 = error_of([&] { load_closed_loop(unknown); });
+  EXPECT_NE(e1.find(unknown.string()), std::string::npos) << e1;
+  EXPECT_NE(e1.find("scenario 1"), std::string::npos) << e1;
+  EXPECT_NE(e1.find("'yawn'"), std::string::npos) << e1;
+
+  const auto type = temp_file(
+      "type.json", R"({"scenarios": [{"name": "a"}, {"name": "b", "head_yaw": "lots"}]})");
+  const std::string e2 = error_of([&] { load_closed_loop(type); });
+  EXPECT_NE(e2.find(type.string()), std::string::npos) << e2;
+  EXPECT_NE(e2.find("scenario 2 (b)"), std::string::npos) << e2;
+  EXPECT_NE(e2.find("'head_yaw'"), std::string::npos) << e2;
+
+  const auto drive =
+      temp_file("drive.json", R"({"scenarios": [{"name": "a", "drive": "no/such.fap"}]})");
+  const std::string e3 = error_of([&] { load_closed_loop(drive); });
+  EXPECT_NE(e3.find(drive.string()), std::string::npos) << e3;
+  EXPECT_NE(e3.find("'drive'"), std::string::npos) << e3;
+
+  const auto empty = temp_file("empty.json", R"({"scenarios": []})");
+  const std::string e4 = error_of([&] { load_closed_loop(empty); });
+  EXPECT_NE(e4.find(empty.string()), std::string::npos) << e4;
+  EXPECT_NE(e4.find("'scenarios'"), std::string::npos) << e4;
+
+  const auto repeat = temp_file("repeat.json", R"({"scenarios": [{"name": "a"}, {"name": "a"}]})");
+  EXPECT_NE(error_of([&] { load_closed_loop(repeat); }).find("repeats"), std::string::npos);
+  const auto aim = temp_file("aim.json", R"({"scenarios": [{"name": "a", "aim": 5}]})");
+  EXPECT_NE(error_of([&] { load_closed_loop(aim); }).find("'aim'"), std::string::npos);
+}
+
+TEST(ClosedLoopFile, AbsentSharedDriveIsSkippedNotAnError) {
+  const auto dir = std::filesystem::temp_directory_path() / "rostro_loop_test_shared";
+  std::filesystem::create_directories(dir);
+  ::setenv("ROSTRO_SHARED", dir.c_str(), 1);
+  const auto path = temp_file(
+      "shared.json", R"({"scenarios": [{"name": "x", "drive": "shared:fixtures/none.fap"}]})");
+  const LoopDefinition d = load_closed_loop(path);
+  ::unsetenv("ROSTRO_SHARED");
+  ASSERT_EQ(d.scenarios.size(), 1u);
+  EXPECT_NE(d.scenarios[0].skip_reason.find((dir / "fixtures/none.fap").string()),
+            std::string::npos)
+      << d.scenarios[0].skip_reason;
+}
+
+TEST(HeadSweeps, WrittenIntoFaps48To50AfterTheLeadIn) {
+  LoopScenario s;
+  s.seconds = 3;
+  s.neutral_lead = 1;
+  s.head.yaw_deg = 25;
+  s.head.pitch_deg = 15;
+  s.head.period_s = 4;
+  const FapStream d = loop_drive(s);
+  ASSERT_EQ(d.frames.size(), 100u);  // 1 s lead + 3 s at 25 fps
+  for (int i = 0; i < 25; ++i) EXPECT_FALSE(d.frames[i].has(kHeadYaw)) << i;  // still lead
+  EXPECT_EQ(d.frames[25].get(kHeadYaw), 0);
+  EXPECT_TRUE(d.frames[25].has(kHeadYaw));
+  // A quarter period after the lead: +25 degrees toward the face's left, in AU (1e-5 rad).
+  EXPECT_NEAR(d.frames[50].get(kHeadYaw), 25 * M_PI / 180 / 1e-5, 1);
+  double pitch_max = 0;
+  for (const FapFrame& f : d.frames) pitch_max = std::max(pitch_max, std::abs(f.get(kHeadPitch)));
+  EXPECT_NEAR(pitch_max, degrees_to_au(15), degrees_to_au(0.5));
+  // The range of motion is still there beside the head.
+  EXPECT_GT(d.frames[37].get(kOpenJaw), 300);
+}
+
+// Short clips rendered, tracked and mapped; skipped without OpenGL or the default head.
+class ClosedLoopRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    try {
+      model_.emplace(load_default_face_model());
+      library_.emplace(ExpressionLibrary::load_default());
+      layout_.emplace(tracking::load_layout(tracking::default_layout_path()));
+    } catch (const InputError& e) {
+      GTEST_SKIP() << "no default head or layout: " << e.what();
+    }
+  }
+  LoopResult run(const LoopScenario& s) {
+    return run_loop_scenario(s, *model_, &*library_, *layout_);
+  }
+  std::optional<FaceModel> model_;
+  std::optional<ExpressionLibrary> library_;
+  std::optional<tracking::MarkerLayout> layout_;
+};
+
+// The issue's aim for a still head, on the FAP the range of motion drives hardest: open_jaw
+// within 5 % of its range, on the exact tracks (the fit alone) and on the tracked markers.
+TEST_F(ClosedLoopRun, StillHeadOpenJawWithinFivePercent) {
+  LoopScenario s;
+  s.name = s.title = "still, 2 s";
+  s.seconds = 2;  // the jaw opens, then the lip corners rise
+  LoopResult r;
+  try {
+    r = run(s);
+  } catch (const render::RenderUnavailable& e) {
+    GTEST_SKIP() << "no OpenGL: " << e.what();
+  }
+  EXPECT_EQ(r.frames, 75);
+  ASSERT_NE(std::find(r.tracked.begin(), r.tracked.end(), kOpenJaw), r.tracked.end());
+  for (LoopMethod m : {LoopMethod::CeresOnTruth, LoopMethod::Ceres}) {
+    const LoopScore& score = r.score(m);
+    EXPECT_EQ(score.calibration_frames, 25) << method_label(m);
+    const FapError* jaw = score.find(kOpenJaw);
+    ASSERT_NE(jaw, nullptr) << method_label(m);
+    ASSERT_TRUE(jaw->rms_share_of_range.has_value());
+    EXPECT_LT(*jaw->rms_share_of_range, 0.05)
+        << method_label(m) << ": open_jaw RMS " << jaw->rms << " MNS units";
+  }
+  // The table names every tracked FAP.
+  const std::string table = loop_fap_table_text(r);
+  EXPECT_NE(table.find("open_jaw"), std::string::npos);
+}
+
+// A head turned +25 degrees in FAP 49 (toward the face's left) reads back with the same sign.
+TEST_F(ClosedLoopRun, HeadYawInFap49ReadsBackWithItsSign) {
+  LoopScenario s;
+  s.name = s.title = "yaw, 2 s";
+  s.seconds = 2;
+  s.head.yaw_deg = 25;
+  LoopResult r;
+  try {
+    r = run(s);
+  } catch (const render::RenderUnavailable& e) {
+    GTEST_SKIP() << "no OpenGL: " << e.what();
+  }
+  const FapStream drive = loop_drive(s);
+  const long peak = 50;  // a quarter period after the 1 s lead: +25 degrees
+  ASSERT_NEAR(drive.frames[peak].get(kHeadYaw), degrees_to_au(25), 1);
+  for (LoopMethod m : {LoopMethod::CeresOnTruth, LoopMethod::Ceres}) {
+    const LoopScore& score = r.score(m);
+    const FapFrame* at_peak = nullptr;
+    for (const FapFrame& f : score.estimate.frames)
+      if (f.index == peak) at_peak = &f;
+    ASSERT_NE(at_peak, nullptr) << method_label(m);
+    ASSERT_TRUE(at_peak->has(kHeadYaw)) << method_label(m);
+    EXPECT_GT(at_peak->get(kHeadYaw), degrees_to_au(12.5))
+        << method_label(m) << ": FAP 49 read " << at_peak->get(kHeadYaw) << " AU for "
+        << degrees_to_au(25);
+    const FapError* yaw = score.find(kHeadYaw);
+    ASSERT_NE(yaw, nullptr);
+    ASSERT_TRUE(yaw->correlation.has_value());
+    EXPECT_GT(*yaw->correlation, 0.9) << method_label(m);
+  }
+}
+
+}  // namespace
+}  // namespace rostro::eval
