@@ -202,15 +202,24 @@ std::vector<PaintedMarker> place_markers(const FaceModel& model,
 
 FapStream range_of_motion(double fps) {
   // Amplitudes in each FAP's own unit, near the ends of a natural range.
+  // The lip FAPs 4-13 are the inner lip; each moves with its outer-lip twin 51-60 (id + 47),
+  // since the markers sit on the outer lip and the hierarchy derives the inner lip from it.
   const std::vector<std::vector<std::pair<int, double>>> poses = {
-      {{3, 350}},                       // open the jaw
-      {{12, 180}, {13, 180}},           // raise the lip corners (smile)
-      {{6, 150}, {7, 150}},             // stretch the lip corners
-      {{4, -120}, {5, -160}, {3, 80}},  // part the lips
-      {{31, 160}, {32, 160}, {33, 180}, {34, 180}, {35, 150}, {36, 150}},  // brows up
+      {{3, 350}},              // open the jaw
+      {{12, 180}, {13, 180}},  // raise the corners
+      {{6, 150}, {7, 150}},    // stretch the corners
+      {{4, -120}, {8, -100}, {9, -100}, {5, -160}, {10, -130}, {11, -130}, {3, 80}},  // part
+      {{31, 160}, {32, 160}, {33, 180}, {34, 180}, {35, 150}, {36, 150}},             // brows up
       {{31, -80}, {32, -80}, {37, 60}, {38, 60}},    // brows down and squeezed
       {{19, 500}, {20, 500}, {21, 500}, {22, 500}},  // blink
-      {{15, 120}, {16, 120}, {53, 120}, {54, 120}},  // corners toward the face's left
+      {{15, 120}, {16, 120}},                        // jaw sideways, lower lip pushed out
+  };
+  auto with_outer_lip = [](std::vector<std::pair<int, double>> pose) {
+    const std::size_t n = pose.size();
+    for (std::size_t i = 0; i < n; ++i)
+      if (pose[i].first >= 4 && pose[i].first <= 13)
+        pose.emplace_back(pose[i].first + 47, pose[i].second);
+    return pose;
   };
   FapStream s;
   s.header.name = "rostro-range-of-motion";
@@ -224,10 +233,11 @@ FapStream range_of_motion(double fps) {
     std::array<double, kFapCount> values{};
     for (std::size_t k = 0; k < poses.size(); ++k) {
       const double w = bump(f.time_s, step * static_cast<double>(k), step);
-      for (const auto& [id, v] : poses[k]) values[static_cast<std::size_t>(id - 1)] += w * v;
+      for (const auto& [id, v] : with_outer_lip(poses[k]))
+        values[static_cast<std::size_t>(id - 1)] += w * v;
     }
     for (const auto& pose : poses)
-      for (const auto& [id, v] : pose)
+      for (const auto& [id, v] : with_outer_lip(pose))
         f.set(id, std::round(values[static_cast<std::size_t>(id - 1)]));
     s.frames.push_back(f);
   }
