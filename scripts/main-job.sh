@@ -10,7 +10,7 @@ mkdir -p out
 build/rostro capture data/samples/take.mp4 --layout data/layouts/default.json \
   --camera data/samples/take.intrinsics.yml -o out/take.fap --tracks out/take.tracks.csv \
   --preview out/take-preview.mp4
-build/rostro eval faps --truth data/samples/take.fap --est out/take.fap --faps 3,12,31 \
+build/rostro eval faps --truth data/samples/take.fap --est out/take.fap --faps 3,59,31 \
   --plot out/take-faps.png
 echo "main job done: out/take.fap (FAPs), out/take-preview.mp4 (markers beside the head),"
 echo "out/take-faps.png (captured against driving FAPs)"
