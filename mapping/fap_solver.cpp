@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "facecore/error.hpp"
+#include "facecore/fap_table.hpp"
 
 namespace rostro::mapping {
 namespace {
@@ -201,8 +202,13 @@ struct FapSolver::Impl {
   bool refine_focal = false;
   double base_fx = 0, base_fy = 0, log_focal = 0, focal_information = 0;
   std::vector<Eigen::Vector3d> shape_rate;  // per marker, see set_shape_rates()
-  // Per fitted FAP: 1, or kHold for a unidirectional FAP clamped at 0 in this frame.
+  // Per fitted FAP: 1, or kHold for a unidirectional FAP clamped at 0 in this frame or a FAP
+  // held at its previous value (SolverOptions::hold_while_hidden).
   std::vector<double> prior_gain;
+  std::vector<bool> clamped;  // unidirectional FAPs pinned to 0 (the active set)
+  std::vector<bool> bounded;  // unidirectional and not in SolverOptions::signed_faps
+  // Per hold rule: the markers on its feature point, and the fitted FAPs it holds.
+  std::vector<std::pair<std::vector<std::size_t>, std::vector<std::size_t>>> holds;
 
   static ceres::Problem::Options problem_options() {
     ceres::Problem::Options o;
@@ -232,7 +238,19 @@ struct FapSolver::Impl {
     x.assign(6 + fap_count(), 0.0);
     previous.assign(fap_count(), 0.0);
     prior_gain.assign(fap_count(), 1.0);
+    clamped.assign(fap_count(), false);
+    for (int id : model.faps)
+      bounded.push_back(!fap_info(id).bidirectional && !o.signed_faps.count(id));
     markers_of_fap.resize(fap_count());
+    for (const auto& rule : o.hold_while_hidden) {
+      std::vector<std::size_t> on_point, held;
+      for (std::size_t i = 0; i < model.markers.size(); ++i)
+        if (model.markers[i].feature_point.str() == rule.feature_point) on_point.push_back(i);
+      for (int id : rule.faps)
+        if (is_fap_id(id) && fap_slot[static_cast<std::size_t>(id)] >= 0)
+          held.push_back(static_cast<std::size_t>(fap_slot[static_cast<std::size_t>(id)]));
+      if (!on_point.empty() && !held.empty()) holds.emplace_back(on_point, held);
+    }
 
     set_neutral_pose();
     std::copy(neutral_pose, neutral_pose + 6, pose());
@@ -423,6 +441,7 @@ struct FapSolver::Impl {
   void reset() {
     fitted_in_a_row = 0;
     std::fill(prior_gain.begin(), prior_gain.end(), 1.0);
+    std::fill(clamped.begin(), clamped.end(), false);
     std::copy(neutral_pose, neutral_pose + 6, pose());
     std::fill(x.begin() + 6, x.end(), 0.0);
     std::fill(previous.begin(), previous.end(), 0.0);
@@ -491,8 +510,16 @@ struct FapSolver::Impl {
     // would hold it exactly but makes Ceres rebuild its evaluator: slower): start with the
     // previous frame's clamped set, pin those that end below 0, release those the markers
     // pull above 0, until the set holds.
-    for (std::size_t s = 0; s < fap_count(); ++s)
-      if (prior_gain[s] != 1.0) previous[s] = 0;
+    // Held FAPs keep the previous frame's value (their prior's target) with the hold's weight.
+    std::vector<bool> held(fap_count(), false);
+    for (const auto& [on_point, faps] : holds)
+      if (std::none_of(on_point.begin(), on_point.end(),
+                       [&](std::size_t i) { return observations[i].active; }))
+        for (std::size_t s : faps) held[s] = true;
+    for (std::size_t s = 0; s < fap_count(); ++s) {
+      if (clamped[s]) previous[s] = 0;
+      prior_gain[s] = clamped[s] || held[s] ? kHold : 1.0;
+    }
     ceres::Solver::Summary summary;
     for (int round = 0; round < 4; ++round) {
       ceres::Solve(solver, &problem, &summary);
@@ -500,20 +527,22 @@ struct FapSolver::Impl {
       if (!summary.IsSolutionUsable()) break;
       bool changed = false;
       for (std::size_t s = 0; s < fap_count(); ++s) {
-        if (fap_info(model.faps[s]).bidirectional) continue;
-        if (prior_gain[s] == 1.0 && x[6 + s] < 0) {
+        if (!bounded[s]) continue;
+        if (!clamped[s] && x[6 + s] < 0) {
           x[6 + s] = previous[s] = 0;
+          clamped[s] = true;
           prior_gain[s] = kHold;
           changed = true;
-        } else if (prior_gain[s] != 1.0 && x[6 + s] > 1e-9) {
-          prior_gain[s] = 1.0;  // the markers pull it off the bound
+        } else if (clamped[s] && x[6 + s] > 1e-9) {
+          clamped[s] = false;  // the markers pull it off the bound
+          prior_gain[s] = held[s] ? kHold : 1.0;
           changed = true;
         }
       }
       if (!changed) break;
     }
     for (std::size_t s = 0; s < fap_count(); ++s)
-      if (prior_gain[s] != 1.0) x[6 + s] = 0;  // exactly on the bound
+      if (clamped[s]) x[6 + s] = 0;  // exactly on the bound
     result.markers_used = static_cast<int>(which.size());
 
     // RMS reprojection error without the robust loss, from the final state.

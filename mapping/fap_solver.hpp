@@ -2,12 +2,16 @@
 // The per-frame fit: head pose (angle-axis + translation) and the FAPs of the marked feature
 // points, minimising the markers' reprojection error. Each marker's 3D position is its
 // neutral position moved by the FAPs acting on it (value x actor FAPU along fap_axis()).
-// Robust loss, lower bounds for unidirectional FAPs, a weak pull toward the previous frame,
+// Robust loss, lower bounds for unidirectional FAPs (not the cheeks), a weak pull toward the
+// previous frame (a hard one for FAPs a hidden marker leaves ambiguous),
 // warm-started from the previous frame (the pose at constant velocity). Ceres, with one
 // parameter block (pose + FAPs) and analytic derivatives.
 
 #include <memory>
 #include <optional>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "calib/actor_profile.hpp"
 #include "facecore/fap_frame.hpp"
@@ -19,6 +23,9 @@ namespace rostro::mapping {
 enum class RobustLoss { None, Huber, Cauchy };
 
 struct SolverOptions {
+  // Declared so that GCC 12 does not warn (-Wmaybe-uninitialized, a false positive) on every
+  // defaulted SolverOptions{} once the struct holds several containers.
+  SolverOptions() = default;
   MarkerModelOptions model;
   RobustLoss loss = RobustLoss::Huber;
   double loss_scale_px = 2.0;  // residuals beyond this many pixels count less
@@ -31,6 +38,21 @@ struct SolverOptions {
   double parameter_tolerance = 1e-6;
   int min_markers = 4;    // fewer valid markers: the frame is not fitted
   bool head_faps = true;  // report the head rotation from neutral as FAPs 48-50
+  // Unidirectional FAPs the fit still lets go below 0. The cheeks: the Xface streams draw
+  // them down to -8 ENS (anger, fear, disgust) and the head renders that; clamped at 0, the
+  // cheek dots' miss was 4.3 % of lift_cheek's range and pulled the head pitch (disgust:
+  // 107 AU RMS on exact tracks, 30 AU without the clamp).
+  std::set<int> signed_faps = {41, 42};
+  // FAPs held at the previous frame's value while every marker on a feature point is hidden.
+  // Without the chin dot (2.1, hidden when the head is pitched down and turned) the chin boss
+  // (2.10) and the lower lip move with open_jaw and with their own FAPs alike, so the fit
+  // cannot tell a jaw opening from a chin or lip raise; holding depress_chin lets the chin
+  // boss read the jaw (joy with turns: open_jaw 9 % of range on exact tracks otherwise).
+  struct HoldWhileHidden {
+    std::string feature_point;
+    std::vector<int> faps;
+  };
+  std::vector<HoldWhileHidden> hold_while_hidden = {{"2.1", {18}}};
   // With default intrinsics (no --camera), the focal length is a guess that bends every FAP
   // once the head turns (f = 640 for a camera of 1083: 73 % mean FAP error at 25 degrees of
   // yaw on exact tracks). Refine it from the frames themselves: a recursive least-squares

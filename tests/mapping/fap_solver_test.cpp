@@ -282,6 +282,97 @@ TEST(FapSolver, UnidirectionalFapsStayNonNegative) {
   EXPECT_LT(r.faps.get(3), 1.0);
 }
 
+// The cheeks are unidirectional in MPEG-4, yet the Xface streams draw them down (-8 ENS in
+// anger, fear, disgust) and the head renders that; clamped at 0, the cheek dots' miss went
+// into the head pitch. The fit lets them go below 0 (SolverOptions::signed_faps), while the
+// jaw still rests on 0.
+TEST(FapSolver, CheeksMayBeDrawnDownWhileTheJawStaysBounded) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  std::mt19937 rng(29);
+  auto truth = test::test_expression(0.5);
+  truth[41] = -20;
+  truth[42] = -15;
+  double signed_pitch_error = 0, clamped_pitch_error = 0;
+  {
+    FapSolver solver(test::exact_profile(actor, neutral));
+    const FitResult r = solver.fit(render(actor, truth, head_pose(8, 5, 0), 0, rng));
+    ASSERT_TRUE(r.ok);
+    EXPECT_NEAR(r.faps.get(41), -20, 1.0);
+    EXPECT_NEAR(r.faps.get(42), -15, 1.0);
+    signed_pitch_error = std::abs(r.faps.get(48) * kAngleUnitRad - test::deg(5));
+  }
+  {
+    SolverOptions clamped;
+    clamped.signed_faps.clear();
+    FapSolver solver(test::exact_profile(actor, neutral), clamped);
+    const FitResult r = solver.fit(render(actor, truth, head_pose(8, 5, 0), 0, rng));
+    ASSERT_TRUE(r.ok);
+    EXPECT_EQ(r.faps.get(41), 0.0) << "without signed_faps the cheek rests on its bound";
+    clamped_pitch_error = std::abs(r.faps.get(48) * kAngleUnitRad - test::deg(5));
+  }
+  // The clamped cheek's miss is taken up by the head pitch.
+  EXPECT_LT(signed_pitch_error, 0.5 * clamped_pitch_error);
+}
+
+// A profile whose jaw carries the chin boss and the lower lip (as the default head's motion
+// does), seen with the chin dot hidden: the chin boss and the lip then move with open_jaw and
+// with their own FAPs alike. Holding depress_chin (SolverOptions::hold_while_hidden) lets the
+// chin boss read the jaw; without the hold the jaw opening leaks into the chin and lip FAPs.
+TEST(FapSolver, HiddenChinHoldsDepressChinSoTheJawIsRead) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  calib::ActorProfile profile = test::exact_profile(actor, neutral);
+  profile.marker_motion["chin"] = {{3, {0, -1, 0}}, {15, {1, 0, 0}}};
+  profile.marker_motion["chin_boss"] = {{3, {0, -0.8, 0}}, {18, {0, 1, 0}}};
+  profile.marker_motion["lip_bot"] = {{3, {0, -0.6, 0}}, {52, {0, 1, 0}}};
+  profile.marker_motion["lip_bot_l"] = {{3, {0, -0.55, 0}}, {57, {0, 1, 0}}};
+  profile.marker_motion["lip_bot_r"] = {{3, {0, -0.55, 0}}, {58, {0, 1, 0}}};
+  const MarkerModel model = build_marker_model(profile);
+  // Frames rendered from the profile's own model: the fit's only unknown is what it holds.
+  auto frame_of = [&](const std::map<int, double>& faps, const tracking::HeadPose& pose,
+                      long index) {
+    cv::Matx33d R;
+    cv::Rodrigues(pose.rotation, R);
+    tracking::TrackedFrame f;
+    f.frame = index;
+    for (const ModelMarker& m : model.markers) {
+      Eigen::Vector3d x = m.neutral;
+      for (const FapStep& s : m.faps)
+        if (auto v = faps.find(s.fap); v != faps.end()) x += v->second * s.step;
+      const cv::Vec3d c = R * cv::Vec3d(x.x(), x.y(), x.z()) + pose.translation;
+      const cv::Point2d px(actor.camera.fx * c[0] / c[2] + actor.camera.cx,
+                           actor.camera.fy * c[1] / c[2] + actor.camera.cy);
+      f.markers.push_back({m.marker, m.feature_point, px, m.marker != "chin", 1.0});
+    }
+    return f;
+  };
+  auto worst_jaw_error = [&](const SolverOptions& options) {
+    FapSolver solver(profile, options);
+    double worst = 0;
+    for (int i = 0; i < 30; ++i) {
+      const double t = i / 29.0;
+      // The jaw opens and closes while the lip is raised against it; the chin boss rests.
+      const std::map<int, double> truth = {{3, 300 * std::sin(M_PI * t)},
+                                           {52, -150 * std::sin(2 * M_PI * t)},
+                                           {57, -120 * std::sin(2 * M_PI * t)},
+                                           {58, -120 * std::sin(2 * M_PI * t)}};
+      const FitResult r = solver.fit(frame_of(truth, head_pose(20, 12, 0), i));
+      EXPECT_TRUE(r.ok);
+      worst = std::max(worst, std::abs(r.faps.get(3) - truth.at(3)));
+      if (!options.hold_while_hidden.empty()) {
+        EXPECT_NEAR(r.faps.get(18), 0.0, 1.0) << "frame " << i;
+        EXPECT_NEAR(r.faps.get(52), truth.at(52), 3.0) << "frame " << i;
+      }
+    }
+    return worst;
+  };
+  EXPECT_LT(worst_jaw_error(SolverOptions{}), 3.0);  // MNS, of a 300 MNS opening
+  SolverOptions no_hold;
+  no_hold.hold_while_hidden.clear();
+  EXPECT_GT(worst_jaw_error(no_hold), 20.0) << "the test no longer shows the ambiguity";
+}
+
 TEST(FapSolver, GainsAndRangesFromTheProfileAreApplied) {
   const auto actor = make_actor();
   const auto neutral = head_pose(0, 0, 0);
