@@ -6,6 +6,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <optional>
 
 #include "tracking/identify.hpp"
 #include "tracking/lk_pyramid.hpp"
@@ -177,6 +178,8 @@ struct MarkerTracker::Impl {
   // ---- start of the take ---------------------------------------------------------------
 
   void start() {
+    carried.clear();
+    valid_run.clear();
     ensure_gray({0, 0, gray.cols, gray.rows});
     std::vector<TagDetection> tags =
         layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
@@ -257,6 +260,8 @@ struct MarkerTracker::Impl {
       if (!states[i].spec->is_tag() && reference_contrast[i] <= 0)
         reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter;
 
+    recent_diameter = reference_diameter;
+    face_scale = 1;
     spacing.assign(n, std::numeric_limits<double>::max());
     for (size_t i = 0; i < n; ++i)
       for (size_t j = 0; j < n; ++j)
@@ -266,10 +271,30 @@ struct MarkerTracker::Impl {
 
   // ---- per frame -----------------------------------------------------------------------
 
-  bool dot_passes(size_t i, const Dot& d) const {
+  // A dot grows suddenly only when it merges with something dark beside it: the pupil beside
+  // a lid dot as the lid closes, the other lid's dot in a blink. Its centre is then the
+  // pair's and neither marker's, so it is reported lost. A followed dot changes size slowly
+  // (`recent_diameter`, its last sizes measured, smoothed); one found again after a loss may
+  // have turned toward the camera meanwhile, so it may be a little larger than it was then
+  // or at the start, not as large as two dots.
+  bool dot_passes(size_t i, const Dot& d, bool followed) const {
+    const double was = recent_diameter[i] > 0 ? recent_diameter[i] : reference_diameter[i];
+    const double largest =
+        followed ? options.max_dot_growth * was
+                 : options.max_dot_growth_found * std::max(was, reference_diameter[i] * face_scale);
     return d.contrast >= options.min_contrast_ratio * reference_contrast[i] &&
-           d.diameter >= 0.5 * reference_diameter[i] && d.diameter <= 2.0 * reference_diameter[i];
+           d.diameter >= 0.5 * reference_diameter[i] &&
+           d.diameter <= (at_eye(i) ? largest : 2.0 * reference_diameter[i]);
   }
+  // The eyes (MPEG-4 group 3: lids and corners) are where a dot meets dark things that are
+  // no markers (the pupil, the iris, the lash line, the other lid's dot); the brows (group 4)
+  // and the eyes lie at other depths than their neighbours. Around the mouth, where the lips'
+  // dark line and the open mouth are, a dot merged for a frame is better kept than dropped
+  // (the suite's mouth clip: dropped lip dots come back on a neighbour's).
+  bool at_eye(size_t i) const { return states[i].spec->feature_point.group == 3; }
+  bool at_brow(size_t i) const { return states[i].spec->feature_point.group == 4; }
+  double face_scale = 1;                // the face's size now over its size at the start
+  std::vector<double> recent_diameter;  // per dot, smoothed over its last measurements
 
   void follow() {
     // 1. LK on the valid dots and the valid tags' corners.
@@ -314,6 +339,11 @@ struct MarkerTracker::Impl {
     std::vector<bool> tag_corners_held(states.size(), true);
     std::vector<bool> was_valid(states.size());
     for (size_t i = 0; i < states.size(); ++i) was_valid[i] = states[i].valid;
+    // Where every marker was in the previous frame: lost dots are carried on by their
+    // neighbours' motion since then (carry_lost).
+    last_frame.resize(states.size());
+    for (size_t i = 0; i < states.size(); ++i)
+      last_frame[i] = {states[i].valid, states[i].position};
     for (size_t k = 0; k < before.size(); ++k) {
       MarkerState& s = states[owner[k]];
       if (s.spec->is_tag()) {
@@ -330,10 +360,11 @@ struct MarkerTracker::Impl {
       ensure_gray_around(cv::Point2d(after[k]), options.max_snap);
       auto d = refine_dot(gray, cv::Point2d(after[k]), options.max_snap, options.dots);
       if (!d || cv::norm(d->center - cv::Point2d(after[k])) > options.max_snap ||
-          !dot_passes(owner[k], *d))
+          !dot_passes(owner[k], *d, true))
         continue;
       s.valid = true;
       s.position = d->center;
+      recent_diameter[owner[k]] = 0.7 * recent_diameter[owner[k]] + 0.3 * d->diameter;
       s.quality = std::clamp(d->contrast / reference_contrast[owner[k]], 0.0, 1.0) *
                   (1 - 0.5 * fb / options.max_fb_error);
     }
@@ -387,10 +418,12 @@ struct MarkerTracker::Impl {
           a.valid = b.valid = false;
       }
 
+    carry_lost();
+
     // 4. Look again for the markers that are not valid, where their neighbours put them.
     predict_lost();
     for (size_t i = 0; i < states.size(); ++i)
-      if (!states[i].valid && has_prediction[i]) reacquire(i);
+      if (!states[i].valid && has_prediction[i] && !unsure[i]) reacquire(i);
   }
 
   int frames_since_tag_detection = 0;
@@ -440,6 +473,7 @@ struct MarkerTracker::Impl {
   // start positions to their current ones, checked against the fit of all valid markers.
   std::vector<cv::Matx23d> prediction_fit;
   std::vector<bool> has_prediction;
+  std::vector<bool> unsure;  // its guesses disagree: not looked for this frame
   std::vector<cv::Point2d> predicted;
 
   cv::Point2d predicted_at(size_t i) const { return predicted[i]; }
@@ -448,6 +482,7 @@ struct MarkerTracker::Impl {
     const size_t n = states.size();
     prediction_fit.assign(n, {});
     has_prediction.assign(n, false);
+    unsure.assign(n, false);
     predicted.assign(n, {});
     std::vector<cv::Point2d> from, to;
     for (size_t j = 0; j < n; ++j)
@@ -457,6 +492,7 @@ struct MarkerTracker::Impl {
     if (global_fit.empty()) return;
     const cv::Matx23d global(global_fit);
     const double global_scale = scale_of(global);
+    face_scale = global_scale;
     for (size_t i = 0; i < n; ++i) {
       if (states[i].valid) continue;
       cv::Matx23d fit = global;
@@ -483,6 +519,76 @@ struct MarkerTracker::Impl {
       prediction_fit[i] = fit;
       predicted[i] = apply(fit, reference[i]);
       has_prediction[i] = true;
+      // Two guesses: from the start and from when it was last seen. Where they disagree by
+      // more than the search radius, neither can be trusted (the neighbours moved unlike the
+      // marker: the jaw under a lip dot); the marker stays lost this frame rather than
+      // taking a neighbour's dot.
+      if (const auto& since = carried[i]) {
+        if (cv::norm(*since - predicted[i]) > options.search_fraction * spacing[i] * scale_of(fit))
+          unsure[i] = true;
+        predicted[i] = *since;
+      }
+    }
+  }
+
+  // Each marker's position and validity in one frame.
+  struct Seen {
+    bool valid = false;
+    cv::Point2d position;
+  };
+  std::vector<Seen> last_frame;  // the previous frame, during follow()
+  std::vector<int> valid_run;    // per marker: frames valid in a row
+  // Per eye and brow dot: where it is while unseen, carried frame by frame from where it was
+  // last followed steadily by the motion of its nearest neighbours seen in both frames.
+  // Better than mapping its start position once the head has turned: the face is no plane,
+  // and markers at other depths than their neighbours (the eye corners, the lids, the brows'
+  // ends) move apart in the image by several pixels as the head turns, enough for the
+  // start-based guess to fall nearer a neighbour's dot than its own.
+  std::vector<std::optional<cv::Point2d>> carried;
+
+  void carry_lost() {
+    const size_t n = states.size();
+    if (valid_run.size() != n) valid_run.assign(n, 0);
+    if (carried.size() != n) carried.assign(n, std::nullopt);
+    for (size_t i = 0; i < n; ++i) {
+      valid_run[i] = states[i].valid ? valid_run[i] + 1 : 0;
+      if (!options.guess_from_last_seen || states[i].spec->is_tag() || (!at_eye(i) && !at_brow(i)))
+        continue;
+      // A marker that came back for a frame or two (a dot passing another, a measure on the
+      // wrong blob) may not be where it was seen: it keeps being carried.
+      if (valid_run[i] >= options.steady_frames) {
+        carried[i] = states[i].position;
+        continue;
+      }
+      if (!carried[i]) continue;
+      // The median motion of its nearest neighbours seen in both frames (by start distance).
+      std::array<std::pair<double, size_t>, 4> near;
+      size_t count = 0;
+      for (size_t j = 0; j < n; ++j) {
+        if (j == i || !states[j].valid || !last_frame[j].valid || states[j].spec->is_tag())
+          continue;
+        const std::pair<double, size_t> c{cv::norm(reference[j] - reference[i]), j};
+        if (count < near.size()) {
+          near[count++] = c;
+        } else {
+          auto worst = std::max_element(near.begin(), near.end());
+          if (c < *worst) *worst = c;
+        }
+      }
+      if (count < 3) {
+        carried[i].reset();
+        continue;
+      }
+      std::array<double, 4> dx{}, dy{};
+      for (size_t k = 0; k < count; ++k) {
+        const cv::Point2d d = states[near[k].second].position - last_frame[near[k].second].position;
+        dx[k] = d.x, dy[k] = d.y;
+      }
+      std::sort(dx.begin(), dx.begin() + static_cast<long>(count));
+      std::sort(dy.begin(), dy.begin() + static_cast<long>(count));
+      const double mx = count % 2 ? dx[count / 2] : 0.5 * (dx[count / 2 - 1] + dx[count / 2]);
+      const double my = count % 2 ? dy[count / 2] : 0.5 * (dy[count / 2 - 1] + dy[count / 2]);
+      *carried[i] += cv::Point2d(mx, my);
     }
   }
 
@@ -504,10 +610,11 @@ struct MarkerTracker::Impl {
     // (Peaks too faint to pass dot_passes() are not even measured.)
     const double least = options.min_contrast_ratio * reference_contrast[i];
     for (const Dot& d : dots_near(gray, expected, radius, options.dots, 4, least)) {
-      if (cv::norm(d.center - expected) > radius || !dot_passes(i, d)) continue;
+      if (cv::norm(d.center - expected) > radius || !dot_passes(i, d, false)) continue;
       if (!belongs_to(i, d.center, scale)) continue;
       s.valid = true;
       s.position = d.center;
+      recent_diameter[i] = d.diameter;
       s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
       return;
     }
