@@ -18,7 +18,10 @@
 #include "eval/track_metrics.hpp"
 #include "eval/truth_tracks.hpp"
 #include "facecore/error.hpp"
+#include "facecore/expression_library.hpp"
+#include "facecore/face_model.hpp"
 #include "facecore/fap_io.hpp"
+#include "tracking/layout.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
@@ -159,6 +162,30 @@ void eval_faps(const FapsArgs& a) {
                 f.correlation ? fmt::format("{:.3f}", *f.correlation).c_str() : "n/a");
 }
 
+// The scenarios named by --only (all when it is empty); throws when it names none.
+template <typename Scenario>
+std::vector<Scenario> chosen_scenarios(const std::vector<Scenario>& all, const std::string& only) {
+  std::vector<Scenario> chosen;
+  const auto wanted = split_commas(only);
+  for (const auto& s : all)
+    if (wanted.empty() || std::find(wanted.begin(), wanted.end(), s.name) != wanted.end())
+      chosen.push_back(s);
+  if (chosen.empty()) throw InputError("--only " + only + ": no scenario of that name");
+  return chosen;
+}
+
+// What the suite and the closed loop render: the default head, its expressions, a layout.
+struct Scene {
+  explicit Scene(const std::string& layout_path)
+      : model(load_default_face_model()),
+        library(ExpressionLibrary::load_default()),
+        layout(tracking::load_layout(layout_path.empty() ? tracking::default_layout_path()
+                                                         : std::filesystem::path(layout_path))) {}
+  FaceModel model;
+  ExpressionLibrary library;
+  tracking::MarkerLayout layout;
+};
+
 struct SuiteArgs {
   std::string suite, layout, markdown, only;
 };
@@ -167,23 +194,15 @@ void eval_suite(const SuiteArgs& a) {
   require_extension(a.markdown, ".md", "--markdown");
   const eval::SuiteDefinition suite = eval::load_suite(
       a.suite.empty() ? eval::default_suite_path() : std::filesystem::path(a.suite));
-  std::vector<eval::SuiteScenario> chosen;
-  const auto wanted = split_commas(a.only);
-  for (const auto& s : suite.scenarios)
-    if (wanted.empty() || std::find(wanted.begin(), wanted.end(), s.name) != wanted.end())
-      chosen.push_back(s);
-  if (chosen.empty()) throw InputError("--only " + a.only + ": no scenario of that name");
-  const FaceModel model = load_default_face_model();
-  const ExpressionLibrary library = ExpressionLibrary::load_default();
-  const tracking::MarkerLayout layout = tracking::load_layout(
-      a.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(a.layout));
+  const auto chosen = chosen_scenarios(suite.scenarios, a.only);
+  const Scene scene(a.layout);
 
   std::vector<eval::SuiteRow> rows;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     const auto& s = chosen[i];
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.seconds * s.fps));
-    rows.push_back(eval::run_scenario(s, model, &library, layout,
+    rows.push_back(eval::run_scenario(s, scene.model, &scene.library, scene.layout,
                                       [&](long done, long) { progress.update(done); }));
     progress.finish();
   }
@@ -220,16 +239,8 @@ void eval_loop(const LoopArgs& a) {
   require_extension(a.markdown, ".md", "--markdown");
   const eval::LoopDefinition loop = eval::load_closed_loop(
       a.file.empty() ? eval::default_closed_loop_path() : std::filesystem::path(a.file));
-  std::vector<eval::LoopScenario> chosen;
-  const auto wanted = split_commas(a.only);
-  for (const auto& s : loop.scenarios)
-    if (wanted.empty() || std::find(wanted.begin(), wanted.end(), s.name) != wanted.end())
-      chosen.push_back(s);
-  if (chosen.empty()) throw InputError("--only " + a.only + ": no scenario of that name");
-  const FaceModel model = load_default_face_model();
-  const ExpressionLibrary library = ExpressionLibrary::load_default();
-  const tracking::MarkerLayout layout = tracking::load_layout(
-      a.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(a.layout));
+  const auto chosen = chosen_scenarios(loop.scenarios, a.only);
+  const Scene scene(a.layout);
 
   std::vector<eval::LoopResult> results;
   std::string skipped, scenarios;
@@ -243,7 +254,7 @@ void eval_loop(const LoopArgs& a) {
     scenarios += fmt::format("- **{}**: {}.\n", s.name, describe_drive(s));
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       static_cast<long>(eval::loop_drive(s).frames.size()));
-    results.push_back(eval::run_loop_scenario(s, model, &library, layout,
+    results.push_back(eval::run_loop_scenario(s, scene.model, &scene.library, scene.layout,
                                               [&](long done, long) { progress.update(done); }));
     progress.finish();
     if (!a.out.empty()) {

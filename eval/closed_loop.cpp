@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "eval/scenario_file.hpp"
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_io.hpp"
@@ -179,26 +180,11 @@ std::filesystem::path shared_dir() {
 
 LoopDefinition load_closed_loop(const std::filesystem::path& path) {
   const json j = read_json_file(path, "the closed-loop file");
-  if (!j.is_object() || !j.contains("scenarios") || !j["scenarios"].is_array() ||
-      j["scenarios"].empty())
-    throw InputError(path.string() + ": expected an object with a non-empty 'scenarios' array");
   LoopDefinition d;
+  d.scenarios = parse_scenario_list<LoopScenario>(
+      j, path, {"size", "seed", "fps", "neutral_lead", "calibration_seconds", "head_period"},
+      parse_scenario);
   d.description = j.value("description", "");
-  json defaults = json::object();
-  for (const char* key :
-       {"size", "seed", "fps", "neutral_lead", "calibration_seconds", "head_period"})
-    if (j.contains(key)) defaults[key] = j[key];
-  std::set<std::string> names;
-  for (std::size_t i = 0; i < j["scenarios"].size(); ++i) {
-    const std::string where = path.string() + ": scenario " + std::to_string(i + 1);
-    try {
-      d.scenarios.push_back(parse_scenario(j["scenarios"][i], defaults, where));
-    } catch (const json::exception& e) {
-      throw InputError(where + ": " + e.what());
-    }
-    if (!names.insert(d.scenarios.back().name).second)
-      throw InputError(where + ": the name '" + d.scenarios.back().name + "' repeats");
-  }
   return d;
 }
 

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "eval/scenario_file.hpp"
 #include "facecore/atomic_file.hpp"
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
@@ -93,25 +94,10 @@ std::filesystem::path default_suite_path() {
 
 SuiteDefinition load_suite(const std::filesystem::path& path) {
   const json j = read_json_file(path, "the suite file");
-  if (!j.is_object() || !j.contains("scenarios") || !j["scenarios"].is_array() ||
-      j["scenarios"].empty())
-    throw InputError(path.string() + ": expected an object with a non-empty 'scenarios' array");
   SuiteDefinition d;
+  d.scenarios = parse_scenario_list<SuiteScenario>(j, path, {"seconds", "seed", "fps", "size"},
+                                                   parse_scenario);
   d.description = j.value("description", "");
-  json defaults = json::object();
-  for (const char* key : {"seconds", "seed", "fps", "size"})
-    if (j.contains(key)) defaults[key] = j[key];
-  std::set<std::string> names;
-  for (std::size_t i = 0; i < j["scenarios"].size(); ++i) {
-    const std::string where = path.string() + ": scenario " + std::to_string(i + 1);
-    try {
-      d.scenarios.push_back(parse_scenario(j["scenarios"][i], defaults, where));
-    } catch (const json::exception& e) {
-      throw InputError(where + ": " + e.what());
-    }
-    if (!names.insert(d.scenarios.back().name).second)
-      throw InputError(where + ": the name '" + d.scenarios.back().name + "' repeats");
-  }
   return d;
 }
 
