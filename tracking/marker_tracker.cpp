@@ -178,8 +178,6 @@ struct MarkerTracker::Impl {
   // ---- start of the take ---------------------------------------------------------------
 
   void start() {
-    carried.clear();
-    valid_run.clear();
     ensure_gray({0, 0, gray.cols, gray.rows});
     std::vector<TagDetection> tags =
         layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
@@ -339,11 +337,6 @@ struct MarkerTracker::Impl {
     std::vector<bool> tag_corners_held(states.size(), true);
     std::vector<bool> was_valid(states.size());
     for (size_t i = 0; i < states.size(); ++i) was_valid[i] = states[i].valid;
-    // Where every marker was in the previous frame: lost dots are carried on by their
-    // neighbours' motion since then (carry_lost).
-    last_frame.resize(states.size());
-    for (size_t i = 0; i < states.size(); ++i)
-      last_frame[i] = {states[i].valid, states[i].position};
     for (size_t k = 0; k < before.size(); ++k) {
       MarkerState& s = states[owner[k]];
       if (s.spec->is_tag()) {
@@ -418,12 +411,10 @@ struct MarkerTracker::Impl {
           a.valid = b.valid = false;
       }
 
-    carry_lost();
-
     // 4. Look again for the markers that are not valid, where their neighbours put them.
     predict_lost();
     for (size_t i = 0; i < states.size(); ++i)
-      if (!states[i].valid && has_prediction[i] && !unsure[i]) reacquire(i);
+      if (!states[i].valid && has_prediction[i]) reacquire(i);
   }
 
   int frames_since_tag_detection = 0;
@@ -473,7 +464,6 @@ struct MarkerTracker::Impl {
   // start positions to their current ones, checked against the fit of all valid markers.
   std::vector<cv::Matx23d> prediction_fit;
   std::vector<bool> has_prediction;
-  std::vector<bool> unsure;  // its guesses disagree: not looked for this frame
   std::vector<cv::Point2d> predicted;
 
   cv::Point2d predicted_at(size_t i) const { return predicted[i]; }
@@ -482,7 +472,6 @@ struct MarkerTracker::Impl {
     const size_t n = states.size();
     prediction_fit.assign(n, {});
     has_prediction.assign(n, false);
-    unsure.assign(n, false);
     predicted.assign(n, {});
     std::vector<cv::Point2d> from, to;
     for (size_t j = 0; j < n; ++j)
@@ -519,76 +508,6 @@ struct MarkerTracker::Impl {
       prediction_fit[i] = fit;
       predicted[i] = apply(fit, reference[i]);
       has_prediction[i] = true;
-      // Two guesses: from the start and from when it was last seen. Where they disagree by
-      // more than the search radius, neither can be trusted (the neighbours moved unlike the
-      // marker: the jaw under a lip dot); the marker stays lost this frame rather than
-      // taking a neighbour's dot.
-      if (const auto& since = carried[i]) {
-        if (cv::norm(*since - predicted[i]) > options.search_fraction * spacing[i] * scale_of(fit))
-          unsure[i] = true;
-        predicted[i] = *since;
-      }
-    }
-  }
-
-  // Each marker's position and validity in one frame.
-  struct Seen {
-    bool valid = false;
-    cv::Point2d position;
-  };
-  std::vector<Seen> last_frame;  // the previous frame, during follow()
-  std::vector<int> valid_run;    // per marker: frames valid in a row
-  // Per eye and brow dot: where it is while unseen, carried frame by frame from where it was
-  // last followed steadily by the motion of its nearest neighbours seen in both frames.
-  // Better than mapping its start position once the head has turned: the face is no plane,
-  // and markers at other depths than their neighbours (the eye corners, the lids, the brows'
-  // ends) move apart in the image by several pixels as the head turns, enough for the
-  // start-based guess to fall nearer a neighbour's dot than its own.
-  std::vector<std::optional<cv::Point2d>> carried;
-
-  void carry_lost() {
-    const size_t n = states.size();
-    if (valid_run.size() != n) valid_run.assign(n, 0);
-    if (carried.size() != n) carried.assign(n, std::nullopt);
-    for (size_t i = 0; i < n; ++i) {
-      valid_run[i] = states[i].valid ? valid_run[i] + 1 : 0;
-      if (!options.guess_from_last_seen || states[i].spec->is_tag() || (!at_eye(i) && !at_brow(i)))
-        continue;
-      // A marker that came back for a frame or two (a dot passing another, a measure on the
-      // wrong blob) may not be where it was seen: it keeps being carried.
-      if (valid_run[i] >= options.steady_frames) {
-        carried[i] = states[i].position;
-        continue;
-      }
-      if (!carried[i]) continue;
-      // The median motion of its nearest neighbours seen in both frames (by start distance).
-      std::array<std::pair<double, size_t>, 4> near;
-      size_t count = 0;
-      for (size_t j = 0; j < n; ++j) {
-        if (j == i || !states[j].valid || !last_frame[j].valid || states[j].spec->is_tag())
-          continue;
-        const std::pair<double, size_t> c{cv::norm(reference[j] - reference[i]), j};
-        if (count < near.size()) {
-          near[count++] = c;
-        } else {
-          auto worst = std::max_element(near.begin(), near.end());
-          if (c < *worst) *worst = c;
-        }
-      }
-      if (count < 3) {
-        carried[i].reset();
-        continue;
-      }
-      std::array<double, 4> dx{}, dy{};
-      for (size_t k = 0; k < count; ++k) {
-        const cv::Point2d d = states[near[k].second].position - last_frame[near[k].second].position;
-        dx[k] = d.x, dy[k] = d.y;
-      }
-      std::sort(dx.begin(), dx.begin() + static_cast<long>(count));
-      std::sort(dy.begin(), dy.begin() + static_cast<long>(count));
-      const double mx = count % 2 ? dx[count / 2] : 0.5 * (dx[count / 2 - 1] + dx[count / 2]);
-      const double my = count % 2 ? dy[count / 2] : 0.5 * (dy[count / 2 - 1] + dy[count / 2]);
-      *carried[i] += cv::Point2d(mx, my);
     }
   }
 

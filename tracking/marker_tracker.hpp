@@ -57,14 +57,6 @@ struct TrackerOptions {
   // (scaled as the face). Other dots keep the looser 0.5-2x of their start size.
   double max_dot_growth = 1.15;
   double max_dot_growth_found = 1.2;
-  // Look a lost eye or brow dot up where its neighbours' motion, frame by frame since it was
-  // last followed steadily (`steady_frames` in a row), has carried it, rather than where they
-  // put its start position. Off by default: it removes identity swaps of the lid and
-  // eye-corner dots under head turns (closed loop `turns`: worst FAP 22.6% -> 16.0% of range)
-  // but carries a dot identified wrongly at the start along with it (suite `mouth`, which
-  // starts mid-expression: NME 0.0092 -> 0.0110).
-  bool guess_from_last_seen = false;
-  int steady_frames = 5;
   int min_identified = 3;  // markers needed to start tracking
 };
 
