@@ -19,6 +19,23 @@ class MemorySink : public render::FrameSink {
   bool finished = false;
 };
 
+// The default head wearing the default layout's markers; skips without the head.
+class SynthScene : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    try {
+      model = load_default_face_model();
+    } catch (const InputError& e) {
+      GTEST_SKIP() << "no default head: " << e.what();
+    }
+    layout = tracking::load_layout(tracking::default_layout_path());
+    markers = place_markers(model, layout);
+  }
+  FaceModel model;
+  tracking::MarkerLayout layout;
+  std::vector<PaintedMarker> markers;  // point into `layout`
+};
+
 TEST(Synth, RangeOfMotionMovesTheJawFirst) {
   const FapStream s = range_of_motion(25);
   EXPECT_EQ(s.frames.size(), 200u);
@@ -27,15 +44,7 @@ TEST(Synth, RangeOfMotionMovesTheJawFirst) {
   EXPECT_EQ(s.frames[37].get(3), 0);
 }
 
-TEST(Synth, TruthSitsOnTheDrawnDots) {
-  FaceModel model;
-  try {
-    model = load_default_face_model();
-  } catch (const InputError& e) {
-    GTEST_SKIP() << "no default head: " << e.what();
-  }
-  const auto layout = tracking::load_layout(tracking::default_layout_path());
-  const auto markers = place_markers(model, layout);
+TEST_F(SynthScene, TruthSitsOnTheDrawnDots) {
   ASSERT_GE(markers.size(), 20u);
   FapStream drive = range_of_motion(25);
   drive.frames.resize(4);
@@ -72,15 +81,7 @@ TEST(Synth, TruthSitsOnTheDrawnDots) {
   EXPECT_GT(left_eye.x, right_eye.x + 20);
 }
 
-TEST(Synth, TagDetectorFindsTheDrawnTagsAtTheirTruth) {
-  FaceModel model;
-  try {
-    model = load_default_face_model();
-  } catch (const InputError& e) {
-    GTEST_SKIP() << "no default head: " << e.what();
-  }
-  const auto layout = tracking::load_layout(tracking::default_layout_path());
-  const auto markers = place_markers(model, layout);
+TEST_F(SynthScene, TagDetectorFindsTheDrawnTagsAtTheirTruth) {
   int tags = 0;
   for (const auto& m : markers) tags += m.spec->is_tag();
   ASSERT_EQ(tags, layout.tag_count());
