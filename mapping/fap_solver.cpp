@@ -160,8 +160,10 @@ class PriorResiduals : public ceres::CostFunction {
   std::vector<double> weights_;
 };
 
-// How much harder than the weak prior a clamped unidirectional FAP is pinned to 0.
-constexpr double kHold = 1000.0;
+// How hard a clamped unidirectional FAP is pinned to its bound (or a held FAP to its previous
+// value): a move of its marker by p pixels costs as a reprojection error of kHoldWeight x p.
+// Fixed, not a multiple of the weak prior, so weakening the prior leaves the pins as firm.
+constexpr double kHoldWeight = 50.0;
 
 }  // namespace
 
@@ -202,11 +204,13 @@ struct FapSolver::Impl {
   bool refine_focal = false;
   double base_fx = 0, base_fy = 0, log_focal = 0, focal_information = 0;
   std::vector<Eigen::Vector3d> shape_rate;  // per marker, see set_shape_rates()
-  // Per fitted FAP: 1, or kHold for a unidirectional FAP clamped at 0 in this frame or a FAP
-  // held at its previous value (SolverOptions::hold_while_hidden).
+  // Per fitted FAP: 1, or hold_gain for a unidirectional FAP clamped at its bound in this frame
+  // or a FAP held at its previous value (SolverOptions::hold_while_hidden).
   std::vector<double> prior_gain;
-  std::vector<bool> clamped;  // unidirectional FAPs pinned to 0 (the active set)
-  std::vector<bool> bounded;  // unidirectional and not in SolverOptions::signed_faps
+  std::vector<double> hold_gain;  // kHoldWeight / the FAP's prior weight
+  std::vector<bool> clamped;      // unidirectional FAPs pinned to their bound (the active set)
+  std::vector<bool> bounded;      // unidirectional and not in SolverOptions::signed_faps
+  std::vector<double> bound;  // where a bounded FAP is clamped: 0, or SolverOptions::lower_bounds
   // Per hold rule: the markers on its feature point, and the fitted FAPs it holds.
   std::vector<std::pair<std::vector<std::size_t>, std::vector<std::size_t>>> holds;
 
@@ -238,9 +242,13 @@ struct FapSolver::Impl {
     x.assign(6 + fap_count(), 0.0);
     previous.assign(fap_count(), 0.0);
     prior_gain.assign(fap_count(), 1.0);
+    hold_gain.assign(fap_count(), 1.0);
     clamped.assign(fap_count(), false);
-    for (int id : model.faps)
+    for (int id : model.faps) {
       bounded.push_back(!fap_info(id).bidirectional && !o.signed_faps.count(id));
+      const auto floor = o.lower_bounds.find(id);
+      bound.push_back(floor == o.lower_bounds.end() ? 0.0 : std::min(0.0, floor->second));
+    }
     markers_of_fap.resize(fap_count());
     for (const auto& rule : o.hold_while_hidden) {
       std::vector<std::size_t> on_point, held;
@@ -278,8 +286,12 @@ struct FapSolver::Impl {
     }
     if (fap_count() > 0) {
       std::vector<double> weights;
-      for (std::size_t s = 0; s < fap_count(); ++s)
-        weights.push_back(options.prior_weight * px_per_unit[s]);
+      for (std::size_t s = 0; s < fap_count(); ++s) {
+        const auto own = options.prior_weight_of.find(model.faps[s]);
+        const double w = own == options.prior_weight_of.end() ? options.prior_weight : own->second;
+        weights.push_back(w * px_per_unit[s]);
+        hold_gain[s] = kHoldWeight / std::max(w, 1e-9);
+      }
       costs.emplace_back(new PriorResiduals(&previous, &prior_gain, std::move(weights), n));
       problem.AddResidualBlock(costs.back().get(), nullptr, x.data());
     }
@@ -506,10 +518,10 @@ struct FapSolver::Impl {
     // Unidirectional FAPs by an active set rather than Ceres' bounds. Ceres projects each step
     // onto the bounds after computing it without them, so a FAP resting on its bound (every
     // unidirectional FAP of a neutral face) cost 20-25 shrinking steps instead of 3. Here a
-    // clamped FAP is pinned to 0 by its prior made kHold times stronger (a subset manifold
+    // clamped FAP is pinned to its bound by its prior made kHoldWeight strong (a subset manifold
     // would hold it exactly but makes Ceres rebuild its evaluator: slower): start with the
-    // previous frame's clamped set, pin those that end below 0, release those the markers
-    // pull above 0, until the set holds.
+    // previous frame's clamped set, pin those that end below their bound, release those the
+    // markers pull above it, until the set holds.
     // Held FAPs keep the previous frame's value (their prior's target) with the hold's weight.
     std::vector<bool> held(fap_count(), false);
     for (const auto& [on_point, faps] : holds)
@@ -517,8 +529,8 @@ struct FapSolver::Impl {
                        [&](std::size_t i) { return observations[i].active; }))
         for (std::size_t s : faps) held[s] = true;
     for (std::size_t s = 0; s < fap_count(); ++s) {
-      if (clamped[s]) previous[s] = 0;
-      prior_gain[s] = clamped[s] || held[s] ? kHold : 1.0;
+      if (clamped[s]) previous[s] = bound[s];
+      prior_gain[s] = clamped[s] || held[s] ? hold_gain[s] : 1.0;
     }
     ceres::Solver::Summary summary;
     for (int round = 0; round < 4; ++round) {
@@ -528,21 +540,21 @@ struct FapSolver::Impl {
       bool changed = false;
       for (std::size_t s = 0; s < fap_count(); ++s) {
         if (!bounded[s]) continue;
-        if (!clamped[s] && x[6 + s] < 0) {
-          x[6 + s] = previous[s] = 0;
+        if (!clamped[s] && x[6 + s] < bound[s]) {
+          x[6 + s] = previous[s] = bound[s];
           clamped[s] = true;
-          prior_gain[s] = kHold;
+          prior_gain[s] = hold_gain[s];
           changed = true;
-        } else if (clamped[s] && x[6 + s] > 1e-9) {
+        } else if (clamped[s] && x[6 + s] > bound[s] + 1e-9) {
           clamped[s] = false;  // the markers pull it off the bound
-          prior_gain[s] = held[s] ? kHold : 1.0;
+          prior_gain[s] = held[s] ? hold_gain[s] : 1.0;
           changed = true;
         }
       }
       if (!changed) break;
     }
     for (std::size_t s = 0; s < fap_count(); ++s)
-      if (clamped[s]) x[6 + s] = 0;  // exactly on the bound
+      if (clamped[s]) x[6 + s] = bound[s];  // exactly on the bound
     result.markers_used = static_cast<int>(which.size());
 
     // RMS reprojection error without the robust loss, from the final state.
@@ -566,7 +578,11 @@ struct FapSolver::Impl {
     ++fitted_in_a_row;
     result.pose = current_pose();
     for (std::size_t s = 0; s < fap_count(); ++s)
-      if (seen[s]) result.faps.set(model.faps[s], profile.apply_gain(model.faps[s], values()[s]));
+      if (seen[s]) {
+        // A FAP fitted below 0 by SolverOptions::lower_bounds is reported on its bound.
+        const double value = bounded[s] ? std::max(0.0, values()[s]) : values()[s];
+        result.faps.set(model.faps[s], profile.apply_gain(model.faps[s], value));
+      }
     if (options.head_faps) {
       const auto head = head_rotation_faps(neutral_cv, result.pose);
       for (int i = 0; i < 3; ++i)

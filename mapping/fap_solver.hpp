@@ -2,11 +2,13 @@
 // The per-frame fit: head pose (angle-axis + translation) and the FAPs of the marked feature
 // points, minimising the markers' reprojection error. Each marker's 3D position is its
 // neutral position moved by the FAPs acting on it (value x actor FAPU along fap_axis()).
-// Robust loss, lower bounds for unidirectional FAPs (not the cheeks), a weak pull toward the
-// previous frame (a hard one for FAPs a hidden marker leaves ambiguous),
+// Robust loss, lower bounds for unidirectional FAPs (0; not the cheeks; open_jaw a little
+// below), a weak pull toward the previous frame (weaker still for the jaw and outer lips, a
+// hard one for FAPs a hidden marker leaves ambiguous),
 // warm-started from the previous frame (the pose at constant velocity). Ceres, with one
 // parameter block (pose + FAPs) and analytic derivatives.
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -32,6 +34,16 @@ struct SolverOptions {
   // Pull toward the previous frame (toward neutral on the first): a FAP change that moves
   // its marker by p pixels costs as much as a reprojection error of prior_weight x p.
   double prior_weight = 0.05;
+  // Weaker pulls for some FAPs (id -> weight, replacing prior_weight): the jaw and the outer
+  // lips. A frontal face barely shows a tenth of a degree of head pitch (hundredths of a
+  // pixel), so the pull's lag on a fast mouth (the Xface lips swing 300 MNS a frame) went into
+  // the pose: the Xface drivers' head_pitch was 19-32 AU RMS off on exact tracks at 0.05 and
+  // 2.0-2.7 AU at 0.005 (with open_jaw's bound below). Not everywhere: the eyelids' and the
+  // nose's dots are noisier and their FAPs do not drag the pose; the firm pull smooths them
+  // (at 0.005 the upper lids under head turns went 4.7 -> 7.5 and 5.1 -> 10.7 % on video).
+  std::map<int, double> prior_weight_of = {
+      {3, 0.005},  {15, 0.005}, {18, 0.005}, {51, 0.005}, {52, 0.005}, {53, 0.005}, {54, 0.005},
+      {55, 0.005}, {56, 0.005}, {57, 0.005}, {58, 0.005}, {59, 0.005}, {60, 0.005}};
   int max_iterations = 25;
   // Ceres' stopping rules: relative cost change, relative step size.
   double function_tolerance = 1e-6;
@@ -43,6 +55,12 @@ struct SolverOptions {
   // cheek dots' miss was 4.3 % of lift_cheek's range and pulled the head pitch (disgust:
   // 107 AU RMS on exact tracks, 30 AU without the clamp).
   std::set<int> signed_faps = {41, 42};
+  // Unidirectional FAPs the fit lets go a little below 0 (id -> lowest value): open_jaw, which
+  // the Xface streams close up to 7 MNS past neutral (the head renders it). Held at 0 the jaw
+  // dots' miss went into the head pitch (up to 160 AU in a frame); let go entirely, noise under
+  // head turns opened a jaw-lip ambiguity (lip FAPs 1.5 -> 2.4 % of range on video). Reported
+  // values still stop at 0, as the FAP table's direction says.
+  std::map<int, double> lower_bounds = {{3, -10.0}};
   // FAPs held at the previous frame's value while every marker on a feature point is hidden.
   // Without the chin dot (2.1, hidden when the head is pitched down and turned) the chin boss
   // (2.10) and the lower lip move with open_jaw and with their own FAPs alike, so the fit

@@ -387,6 +387,40 @@ TEST(FapSolver, GainsAndRangesFromTheProfileAreApplied) {
   EXPECT_NEAR(r.faps.get(53), 100.0, 1e-9);
 }
 
+// A still head under a fast-talking mouth, as the Xface streams drive it: the lower lip swings
+// by hundreds of MNS from one frame to the next and the jaw sometimes closes a few units past
+// neutral (open_jaw -7). A frontal face says little about a tenth of a degree of pitch (it
+// moves the markers by hundredths of a pixel), so whatever the face FAPs fail to explain goes
+// there: the pull toward the previous frame's FAPs (a lag) and a jaw held at its bound both
+// did (60-180 AU on the Xface drivers' exact tracks). The head must stay still.
+TEST(FapSolver, FastMouthOnAStillHeadLeavesThePoseStill) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  std::mt19937 rng(31);
+  FapSolver solver(test::exact_profile(actor, neutral));
+  double worst_pitch = 0, worst_yaw = 0, worst_roll = 0, worst_jaw = 0;
+  for (int i = 0; i < 60; ++i) {
+    const double t = static_cast<double>(i);
+    std::map<int, double> faps;
+    for (int id : {52, 57, 58}) faps[id] = 300 * std::sin(2.1 * t);  // raise_b_*lip_o
+    for (int id : {51, 55, 56}) faps[id] = 100 * std::sin(1.3 * t);  // lower_t_*lip_o
+    faps[3] = std::max(-7.0, 250 * std::sin(0.9 * t));               // open_jaw
+    faps[59] = faps[60] = 80 * std::sin(0.7 * t);                    // raise_*_cornerlip_o
+    const FitResult r = solver.fit(render(actor, faps, neutral, 0, rng, i));
+    ASSERT_TRUE(r.ok) << "frame " << i;
+    worst_pitch = std::max(worst_pitch, std::abs(r.faps.get(48)));
+    worst_yaw = std::max(worst_yaw, std::abs(r.faps.get(49)));
+    worst_roll = std::max(worst_roll, std::abs(r.faps.get(50)));
+    // The fit follows the jaw below 0; the reported value stops at the FAP's bound.
+    worst_jaw = std::max(worst_jaw, std::abs(r.faps.get(3) - std::max(0.0, faps[3])));
+  }
+  // 10 AU is 0.006 degree.
+  EXPECT_LT(worst_pitch, 10.0) << "head_pitch (AU) moved with the mouth";
+  EXPECT_LT(worst_yaw, 10.0);
+  EXPECT_LT(worst_roll, 10.0);
+  EXPECT_LT(worst_jaw, 2.0) << "open_jaw (MNS)";
+}
+
 TEST(HeadRotationFaps, SignsFollowTheFapTable) {
   const auto neutral = head_pose(0, 0, 0);
   const auto yaw = head_rotation_faps(neutral, head_pose(10, 0, 0));
