@@ -7,9 +7,13 @@
 // as below and kept when it passes the size, contrast and roundness checks (thresholded blobs
 // would merge a dot with the shadow beside it: the nose, the lips, the chin); a dot touching a
 // darker feature is measured at a higher share of its contrast, where it stands alone. Centre: the
-// contrast-weighted centroid over a disc around the blob, re-centred twice. For an anti-aliased
-// disc on a flat background the weights are the pixel coverage, whose centroid is the disc's
-// centre, so the estimate has no bias from the pixel grid.
+// contrast-weighted centroid over the blob, then the centre of an ellipse fitted to sub-pixel
+// edge points along 32 rays, each where the ray's profile crosses halfway between the ink and
+// the level just outside (the skin's, from a plane fitted to the rays that see skin, or a
+// darker feature's own where one lies flat against the dot); rays with no clean step are
+// dropped. The centroid alone is pulled toward a shading gradient's dark side and toward a
+// darker feature beside the dot (the eye slit, the iris, the mouth, a brow's shadow); the
+// edge fit is not, and stands in only where enough of the rim gives a clean edge.
 
 #include <opencv2/core.hpp>
 #include <optional>
@@ -33,6 +37,9 @@ struct DotOptions {
   // Largest median contrast of the ring just outside a dot, as a share of the dot's: the
   // pupil, ringed by the dark iris, is as round and dark as a dot but fails this.
   double max_surround = 0.55;
+  // Centre from the ellipse through the dot's edge (see above) where its surroundings are
+  // uneven; false: the contrast-weighted centroid alone.
+  bool edge_fit = true;
 };
 
 struct Dot {
