@@ -69,6 +69,8 @@ struct MarkerTracker::Impl {
       states.push_back(s);
     }
     options.dots.polarity = layout.polarity;
+    centroid_dots = options.dots;
+    centroid_dots.edge_fit = false;
   }
 
   AprilTagOptions with_layout_families(AprilTagOptions o) const {
@@ -138,8 +140,8 @@ struct MarkerTracker::Impl {
       else
         add(s.valid ? s.position : reference[i]);
     }
-    const double margin = options.region_margin_px +
-                          0.5 * options.lk_window * static_cast<double>(1 << options.lk_levels);
+    const double margin = options.region_margin_px * px +
+                          0.5 * lk_window() * static_cast<double>(1 << options.lk_levels);
     const cv::Rect r(cv::Point(static_cast<int>(std::floor(x0 - margin)),
                                static_cast<int>(std::floor(y0 - margin))),
                      cv::Point(static_cast<int>(std::ceil(x1 + margin)),
@@ -172,7 +174,7 @@ struct MarkerTracker::Impl {
   }
 
   void build_pyramid(const cv::Rect& r, LkPyramid& out) const {
-    out.build(gray(r), {options.lk_window, options.lk_window}, options.lk_levels);
+    out.build(gray(r), {lk_window(), lk_window()}, options.lk_levels);
   }
 
   // ---- start of the take ---------------------------------------------------------------
@@ -191,13 +193,13 @@ struct MarkerTracker::Impl {
           for (const TagDetection& t : tags)
             if (t.marker_id() == s.spec->id && cv::norm(t.center - it->second) < 20)
               s.valid = true, s.corners = t.corners, s.position = t.center;
-        } else if (auto d = refine_dot(gray, it->second, 3, options.dots)) {
+        } else if (auto d = refine_dot(gray, it->second, 3, centroid_dots)) {
           s.valid = true, s.position = d->center;
         }
         if (s.valid) known.push_back({s.spec->frontal(), s.position});
       }
     } else {
-      auto dots = detect_dots(gray, options.dots);
+      auto dots = detect_dots(gray, centroid_dots);
       Identification id = identify_markers(layout, dots, tags);
       for (MarkerState& s : states) {
         s.valid = false;
@@ -233,7 +235,7 @@ struct MarkerTracker::Impl {
         reference[i] = s.position;
         reference_corners[i] = s.corners;
         if (!s.spec->is_tag()) {
-          if (auto d = refine_dot(gray, s.position, 1.5, options.dots)) {
+          if (auto d = refine_dot(gray, s.position, 1.5, dot_options(i))) {
             reference_contrast[i] = d->contrast, reference_diameter[i] = d->diameter;
             contrasts.push_back(d->contrast), diameters.push_back(d->diameter);
           }
@@ -254,6 +256,7 @@ struct MarkerTracker::Impl {
       return v[v.size() / 2];
     };
     const double typical_contrast = median(contrasts), typical_diameter = median(diameters);
+    px = std::max(1.0, typical_diameter / options.reference_dot_px);
     for (size_t i = 0; i < n; ++i)
       if (!states[i].spec->is_tag() && reference_contrast[i] <= 0)
         reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter;
@@ -268,6 +271,20 @@ struct MarkerTracker::Impl {
   }
 
   // ---- per frame -----------------------------------------------------------------------
+
+  // The pixel-valued options are for dots `reference_dot_px` wide; larger dots (a larger
+  // image of the face) move, blur and round-trip LK by proportionally more pixels. The LK
+  // window grows only with the square root: it must hold the larger dot, but a window grown
+  // in proportion takes in the dark open mouth beside a lip dot (Xface fear at 1280x720: the
+  // chin boss lost, the chin found again on its dot), while one kept at 13 px loses the upper
+  // lip's dots when the mouth opens at once (Xface joy at 2.4 s: both corners then judged
+  // against the lower lip only, dropped and found again a dot off).
+  double px = 1;  // the dots' size at the start over reference_dot_px, at least 1
+  double max_fb_error() const { return options.max_fb_error * px; }
+  double max_snap() const { return options.max_snap * px; }
+  int lk_window() const {
+    return static_cast<int>(std::lround(options.lk_window * std::sqrt(px))) | 1;
+  }
 
   // A dot grows suddenly only when it merges with something dark beside it: the pupil beside
   // a lid dot as the lid closes, the other lid's dot in a blink. Its centre is then the
@@ -291,6 +308,16 @@ struct MarkerTracker::Impl {
   // (the suite's mouth clip: dropped lip dots come back on a neighbour's).
   bool at_eye(size_t i) const { return states[i].spec->feature_point.group == 3; }
   bool at_brow(size_t i) const { return states[i].spec->feature_point.group == 4; }
+  // How dot i is measured: the edge fit at the eyes (TrackerOptions::edge_fit_elsewhere).
+  DotOptions centroid_dots;
+  const DotOptions& dot_options(size_t i) const {
+    return at_eye(i) || options.edge_fit_elsewhere ? options.dots : centroid_dots;
+  }
+  // MPEG-4 3.1-3.4: the upper and lower lids' midpoints (odd: the face's left eye).
+  bool is_lid(size_t i) const {
+    const FeaturePointId& fp = states[i].spec->feature_point;
+    return fp.group == 3 && fp.index >= 1 && fp.index <= 4;
+  }
   double face_scale = 1;                // the face's size now over its size at the start
   std::vector<double> recent_diameter;  // per dot, smoothed over its last measurements
 
@@ -309,7 +336,7 @@ struct MarkerTracker::Impl {
     }
     std::vector<uchar> status, status_back;
     std::vector<float> err;
-    const cv::Size window(options.lk_window, options.lk_window);
+    const cv::Size window(lk_window(), lk_window());
     const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
     if (!before.empty()) {
       // Each pyramid has its own region: points go to its coordinates and back.
@@ -342,24 +369,24 @@ struct MarkerTracker::Impl {
       if (s.spec->is_tag()) {
         int& c = tag_corner_count[owner[k]];
         tag_guess[owner[k]][c] = status[k] ? cv::Point2d(after[k]) : s.corners[c];
-        if (!status[k] || !status_back[k] || cv::norm(back[k] - before[k]) > options.max_fb_error)
+        if (!status[k] || !status_back[k] || cv::norm(back[k] - before[k]) > max_fb_error())
           tag_corners_held[owner[k]] = false;
         ++c;
         continue;
       }
       const double fb = cv::norm(back[k] - before[k]);
       s.valid = false;
-      if (!status[k] || !status_back[k] || fb > options.max_fb_error) continue;
-      ensure_gray_around(cv::Point2d(after[k]), options.max_snap);
-      auto d = refine_dot(gray, cv::Point2d(after[k]), options.max_snap, options.dots);
-      if (!d || cv::norm(d->center - cv::Point2d(after[k])) > options.max_snap ||
+      if (!status[k] || !status_back[k] || fb > max_fb_error()) continue;
+      ensure_gray_around(cv::Point2d(after[k]), max_snap());
+      auto d = refine_dot(gray, cv::Point2d(after[k]), max_snap(), dot_options(owner[k]));
+      if (!d || cv::norm(d->center - cv::Point2d(after[k])) > max_snap() ||
           !dot_passes(owner[k], *d, true))
         continue;
       s.valid = true;
       s.position = d->center;
       recent_diameter[owner[k]] = 0.7 * recent_diameter[owner[k]] + 0.3 * d->diameter;
       s.quality = std::clamp(d->contrast / reference_contrast[owner[k]], 0.0, 1.0) *
-                  (1 - 0.5 * fb / options.max_fb_error);
+                  (1 - 0.5 * fb / max_fb_error());
     }
     // A tag is rigid: between detections (every few frames) LK on its corners follows it, as
     // long as all four corners pass the round trip and the square keeps its size.
@@ -397,7 +424,7 @@ struct MarkerTracker::Impl {
       std::nth_element(ys.begin(), ys.begin() + static_cast<long>(ys.size() / 2), ys.end());
       const cv::Point2d typical(xs[xs.size() / 2], ys[ys.size() / 2]);
       if (cv::norm(moved[i] - typical) >
-          std::max(options.max_relative_motion_px, options.max_relative_motion * spacing[i]))
+          std::max(options.max_relative_motion_px * px, options.max_relative_motion * spacing[i]))
         jumped.push_back(i);
     }
     for (size_t i : jumped) states[i].valid = false;
@@ -411,7 +438,14 @@ struct MarkerTracker::Impl {
           a.valid = b.valid = false;
       }
 
+    // 3c. A followed lid dot that left its band (in_its_lid_band) is not the lid's: a take
+    //     starting in a squint names the brow's dot the upper lid's.
+    for (size_t i = 0; i < states.size(); ++i)
+      if (states[i].valid && is_lid(i) && !in_its_lid_band(i, states[i].position))
+        states[i].valid = false;
+
     // 4. Look again for the markers that are not valid, where their neighbours put them.
+    remember_lost_lids(was_valid, before, owner);
     predict_lost();
     for (size_t i = 0; i < states.size(); ++i)
       if (!states[i].valid && has_prediction[i]) reacquire(i);
@@ -465,6 +499,7 @@ struct MarkerTracker::Impl {
   std::vector<cv::Matx23d> prediction_fit;
   std::vector<bool> has_prediction;
   std::vector<cv::Point2d> predicted;
+  std::vector<bool> carried_now;  // predicted from where it was last seen (lids)
 
   cv::Point2d predicted_at(size_t i) const { return predicted[i]; }
 
@@ -473,6 +508,7 @@ struct MarkerTracker::Impl {
     prediction_fit.assign(n, {});
     has_prediction.assign(n, false);
     predicted.assign(n, {});
+    carried_now.assign(n, false);
     std::vector<cv::Point2d> from, to;
     for (size_t j = 0; j < n; ++j)
       if (states[j].valid) from.push_back(reference[j]), to.push_back(states[j].position);
@@ -506,9 +542,70 @@ struct MarkerTracker::Impl {
         }
       }
       prediction_fit[i] = fit;
-      predicted[i] = apply(fit, reference[i]);
+      const std::optional<cv::Point2d> carry = carried(i);
+      predicted[i] = carry.value_or(apply(fit, reference[i]));
+      carried_now[i] = carry.has_value();
       has_prediction[i] = true;
     }
+  }
+
+  // A lid dot lies at another depth than its neighbours, so under a head turn the start
+  // positions' fit puts it pixels off (onto the eye corner, for a lower lid: 23 px in the
+  // closed loop's turns). While it is lost it is carried instead from where it was last seen,
+  // with the motion of the neighbours that were valid then (a few frames: nearly a shift).
+  // Only lid dots: elsewhere a wrong identity at the start (the mouth clip's chin) would be
+  // carried along rather than corrected; the eye corners, carried too, were found again on
+  // their dot merged with the lash line (3-7 px off) where they had been reported lost.
+  struct LastSeen {
+    bool known = false;
+    cv::Point2d position;
+    std::vector<std::pair<size_t, cv::Point2d>> anchors;  // neighbour -> its position then
+  };
+  std::vector<LastSeen> last_seen;
+
+  void remember_lost_lids(const std::vector<bool>& was_valid,
+                          const std::vector<cv::Point2f>& before,
+                          const std::vector<size_t>& owner) {
+    const size_t n = states.size();
+    last_seen.resize(n);
+    std::vector<cv::Point2d> then(n);
+    for (size_t k = 0; k < before.size(); ++k) then[owner[k]] = cv::Point2d(before[k]);
+    for (size_t i = 0; i < n; ++i) {
+      if (states[i].valid) {
+        last_seen[i].known = false;
+        continue;
+      }
+      if (!was_valid[i] || !is_lid(i)) continue;
+      LastSeen& l = last_seen[i];
+      l.known = true;
+      l.position = then[i];
+      l.anchors.clear();
+      std::vector<std::pair<double, size_t>> near;
+      for (size_t j = 0; j < n; ++j)
+        if (j != i && was_valid[j] && !states[j].spec->is_tag())
+          near.push_back({cv::norm(reference[j] - reference[i]), j});
+      std::sort(near.begin(), near.end());
+      for (const auto& [d, j] : near) l.anchors.push_back({j, then[j]});
+    }
+  }
+
+  std::optional<cv::Point2d> carried(size_t i) const {
+    if (i >= last_seen.size() || !last_seen[i].known) return std::nullopt;
+    const LastSeen& l = last_seen[i];
+    std::vector<cv::Point2d> from, to;
+    for (const auto& [j, at] : l.anchors) {
+      if (!states[j].valid) continue;
+      from.push_back(at), to.push_back(states[j].position);
+      if (from.size() == 6) break;
+    }
+    if (from.empty()) return std::nullopt;
+    if (from.size() >= 3) {
+      cv::Mat m = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
+      if (!m.empty()) return apply(cv::Matx23d(m), l.position);
+    }
+    cv::Point2d shift(0, 0);
+    for (size_t k = 0; k < from.size(); ++k) shift += to[k] - from[k];
+    return l.position + shift * (1.0 / static_cast<double>(from.size()));
   }
 
   void reacquire(size_t i) {
@@ -528,15 +625,76 @@ struct MarkerTracker::Impl {
     // feature that is no marker (the pupil beside a lid dot) and fail the checks.
     // (Peaks too faint to pass dot_passes() are not even measured.)
     const double least = options.min_contrast_ratio * reference_contrast[i];
-    for (const Dot& d : dots_near(gray, expected, radius, options.dots, 4, least)) {
+    for (const Dot& d : dots_near(gray, expected, radius, dot_options(i), 4, least)) {
       if (cv::norm(d.center - expected) > radius || !dot_passes(i, d, false)) continue;
       if (!belongs_to(i, d.center, scale)) continue;
+      // A lid dot only where a lid can be: not on the brow's, the other lid's or a corner's dot.
+      if (is_lid(i) && !in_its_lid_band(i, d.center)) continue;
+      if (carried_now[i] && !along_its_lid_line(i, d.center, scale)) continue;
       s.valid = true;
       s.position = d.center;
       recent_diameter[i] = d.diameter;
       s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
       return;
     }
+  }
+
+  // A lid carried from where it was last seen moves up and down with the lid meanwhile, but
+  // hardly sideways: a dot well to the side of where it is carried is an eye corner's.
+  bool along_its_lid_line(size_t i, cv::Point2d at, double scale) const {
+    const std::optional<cv::Point2d> axis = eye_axis(i);
+    if (!axis) return true;
+    return std::abs((at - predicted_at(i)).dot(*axis)) <=
+           options.lid_sideways_fraction * spacing[i] * scale;
+  }
+
+  // The corners of the eye lid dot i belongs to (MPEG-4 3.11/3.7 left, 3.8/3.12 right).
+  std::optional<std::pair<size_t, size_t>> eye_corners(size_t i) const {
+    const int left = states[i].spec->feature_point.index % 2;
+    std::optional<size_t> inner, outer;
+    for (size_t j = 0; j < states.size(); ++j) {
+      const FeaturePointId& fp = states[j].spec->feature_point;
+      if (fp.group != 3) continue;
+      if (fp.index == (left ? 11 : 8)) inner = j;
+      if (fp.index == (left ? 7 : 12)) outer = j;
+    }
+    if (!inner || !outer) return std::nullopt;
+    return std::pair{*inner, *outer};
+  }
+
+  // The image direction of lid i's eye from inner to outer corner, as the prediction maps it.
+  std::optional<cv::Point2d> eye_axis(size_t i) const {
+    const auto corners = eye_corners(i);
+    if (!corners) return std::nullopt;
+    const cv::Matx23d& m = prediction_fit[i];
+    const cv::Point2d r = reference[corners->second] - reference[corners->first];
+    const cv::Point2d axis(m(0, 0) * r.x + m(0, 1) * r.y, m(1, 0) * r.x + m(1, 1) * r.y);
+    const double length = cv::norm(axis);
+    if (length <= 0) return std::nullopt;
+    return axis * (1.0 / length);
+  }
+
+  // An upper-lid dot lies above its eye's corner line and a lower-lid dot below it, even in a
+  // blink (the lids meet near the line, a fraction of a spacing off at most), and not much
+  // farther from it than at the start (the brow is farther): a dot elsewhere is the other
+  // lid's, the brow's or a corner's. Checked only while both corners are followed: a line
+  // through predicted corners tilts too much under head turns to tell.
+  bool in_its_lid_band(size_t i, cv::Point2d at) const {
+    const auto corners = eye_corners(i);
+    if (!corners) return true;
+    const auto [inner, outer] = *corners;
+    if (!states[inner].valid || !states[outer].valid) return true;
+    auto cross = [](cv::Point2d a, cv::Point2d b) { return a.x * b.y - a.y * b.x; };
+    const cv::Point2d line = states[outer].position - states[inner].position;
+    const cv::Point2d ref_line = reference[outer] - reference[inner];
+    const double length = cv::norm(line), ref_length = cv::norm(ref_line);
+    if (length <= 0 || ref_length <= 0) return true;
+    // Signed distances from the line, positive on the side the dot was at the start.
+    const double ref_offset = cross(ref_line, reference[i] - reference[inner]) / ref_length;
+    const double offset =
+        cross(line, at - states[inner].position) / length * (ref_offset > 0 ? 1 : -1);
+    return offset >= -options.lid_overshoot_fraction * spacing[i] * face_scale &&
+           offset <= options.lid_reach * std::abs(ref_offset) * face_scale;
   }
 
   // A dot that belongs to a valid neighbour, or lies nearer another lost marker's expected

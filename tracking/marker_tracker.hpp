@@ -16,9 +16,11 @@
 //     frames (and whenever a corner fails LK's round trip or the square changes size); in
 //     between, LK on their corners follows them (tags are rigid);
 //  4. an invalid marker is looked for near where its valid neighbours say it should be
-//     (an affine fit of the neighbours' start positions to their current ones), among every
-//     dot there, nearest first, and comes back with its own identity; it is never guessed
-//     while unseen.
+//     (an affine fit of the neighbours' start positions to their current ones; a lid dot is
+//     carried instead from where it was last seen with its neighbours' motion since, as the
+//     eyes sit at another depth), among every dot there, nearest first, and comes back with
+//     its own identity; it is never guessed while unseen. A lid dot is only accepted between
+//     its eye's corner line and not far beyond its start distance from it.
 
 #include <map>
 #include <memory>
@@ -35,7 +37,16 @@ namespace rostro::tracking {
 
 struct TrackerOptions {
   DotOptions dots;
-  AprilTagOptions tags;               // for the first frame (whole image)
+  AprilTagOptions tags;  // for the first frame (whole image)
+  // The pixel-valued options below hold for dots this wide; with larger dots measured at the
+  // start (a larger image of the face) they grow in proportion (the LK window with the square
+  // root of it).
+  double reference_dot_px = 8;
+  // The edge-fitted centre (DotOptions::edge_fit) for the eye dots (lids and corners), where
+  // the centroid is pulled toward the slit and the lashes by 0.4-0.6 px; elsewhere the centroid
+  // (false), as the edge fit moved the inner brow dots at 640x480 (5 px dots against the brow's
+  // fold) and flipped the identity of the mouth clip's dots.
+  bool edge_fit_elsewhere = false;
   int lk_window = 13;                 // pixels
   int lk_levels = 2;                  // pyramid levels above the image: motion up to ~25 px/frame
   double region_margin_px = 24;       // LK region: the markers' box + this + the top window
@@ -46,6 +57,13 @@ struct TrackerOptions {
   double tag_decimate_above_px = 48;  // tags wider than this are searched at half resolution
   int tag_redetect_every = 4;         // frames; in between LK follows the tags' corners
   double search_fraction = 0.45;      // re-acquisition radius, fraction of the nearest spacing
+  // A lost lid dot is carried from where it was last seen, and found again only this far
+  // (fraction of its spacing) to the side of there, along its eye's corner-to-corner line.
+  double lid_sideways_fraction = 0.25;
+  // A lid dot is kept (while both eye corners are followed) and found again only on its own
+  // side of its eye's corner line, or this fraction of its spacing past it, ...
+  double lid_overshoot_fraction = 0.15;
+  double lid_reach = 1.7;  // and at most this many times its distance from the line at the start
   // How far a dot's frame-to-frame motion may differ from its neighbours' (the larger of a
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.
   double max_relative_motion = 0.35;
