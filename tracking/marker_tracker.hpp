@@ -18,9 +18,10 @@
 //  4. an invalid marker is looked for near where its valid neighbours say it should be
 //     (an affine fit of the neighbours' start positions to their current ones; a lid dot is
 //     carried instead from where it was last seen with its neighbours' motion since, as the
-//     eyes sit at another depth), among every dot there, nearest first, and comes back with
-//     its own identity; it is never guessed while unseen. A lid dot is only accepted between
-//     its eye's corner line and not far beyond its start distance from it.
+//     eyes sit at another depth; any dot so in the frame it is lost in), among every dot there,
+//     nearest first, and comes back with its own identity; it is never guessed while unseen. A lid
+//     dot is only accepted between its eye's corner line and not far beyond its start distance from
+//     it.
 
 #include <map>
 #include <memory>

@@ -85,3 +85,31 @@ TEST(Cli, FailedConvertLeavesNoOutput) {
 }
 
 }  // namespace
+
+namespace {
+
+// The Xface fear drive opens the jaw until the lower-lip dot faces down and is hidden; as it
+// comes back into view 14 px above the chin boss, the chin boss was lost for a frame and
+// looked for where its neighbours' start positions put it: on the lip dot, and the chin then
+// took the chin boss's dot for the rest of the take (136 swap observations). Rendered, encoded
+// and tracked as a user would.
+TEST(Cli, XfaceFearTrackedWithoutSwaps) {
+  const std::filesystem::path fear =
+      std::filesystem::path(ROSTRO_SHARED_DIR) / "fixtures/xface/fear.fap";
+  if (!std::filesystem::exists(fear)) GTEST_SKIP() << "no shared fixture " << fear;
+  const auto dir = scratch("fear");
+  const std::string prefix = (dir / "fear").string();
+  const CliRun synth =
+      rostro("synth -o " + prefix + " --fap " + fear.string() + " --neutral-lead 1 --seed 1");
+  if (synth.exit_code != 0 && synth.output.find("OpenGL") != std::string::npos)
+    GTEST_SKIP() << "no OpenGL: " << synth.output;
+  ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  const CliRun track = rostro("track " + prefix + ".mp4 -o " + prefix + ".tracks.csv");
+  ASSERT_EQ(track.exit_code, 0) << track.output;
+  const CliRun eval =
+      rostro("eval tracks --truth " + prefix + ".truth.csv --tracks " + prefix + ".tracks.csv");
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_NE(eval.output.find("swaps 0 (0 events)"), std::string::npos) << eval.output;
+}
+
+}  // namespace
