@@ -623,14 +623,17 @@ std::optional<Dot> measure_peak(const cv::Mat& c, cv::Point peak, float peak_val
     auto mid = ring.begin() + static_cast<long>(ring.size() / 2);
     std::nth_element(ring.begin(), mid, ring.end());
     surround = std::max(0.0, static_cast<double>(*mid) / peak_value);
-    // How uneven the surroundings are: the 10th to the 90th percentile.
+  }
+  if (surround > options.max_surround) return std::nullopt;
+  // How uneven the surroundings are, for the edge fit only: the 10th to the 90th percentile.
+  if (options.edge_fit && !ring.empty()) {
+    auto mid = ring.begin() + static_cast<long>(ring.size() / 2);
     auto low = ring.begin() + static_cast<long>(ring.size() / 10);
     std::nth_element(ring.begin(), low, mid);
     auto high = ring.begin() + static_cast<long>(ring.size() * 9 / 10);
     std::nth_element(mid, high, ring.end());
     spread = static_cast<double>(*high - *low);
   }
-  if (surround > options.max_surround) return std::nullopt;
   // The centroid starts the edge fit, which is not pulled by what lies beside the dot; it
   // stands where the rim is too broken to fit (a dot half hidden, or merged all round), and
   // on even surroundings (a dot on the cheek), where it has no pull to undo: the fit costs
