@@ -131,13 +131,14 @@ class MarkerResidual : public ceres::CostFunction {
   const Intrinsics* k_;  // the solver's: the focal length may be refined as frames come
 };
 
-// weight_i * (value_i - target_i) for every fitted FAP: the weak pull toward the previous
-// frame, as one residual block over the FAP part of the parameter block.
+// gain_i * weight_i * (value_i - target_i) over a run of the parameter block starting at
+// column `first`: the weak pull of the FAPs toward the previous frame (first = 6), and of the
+// pose toward its constant-velocity prediction (first = 0).
 class PriorResiduals : public ceres::CostFunction {
  public:
   PriorResiduals(const std::vector<double>* targets, const std::vector<double>* gains,
-                 std::vector<double> weights, int parameters)
-      : targets_(targets), gains_(gains), weights_(std::move(weights)) {
+                 std::vector<double> weights, int parameters, std::size_t first)
+      : targets_(targets), gains_(gains), weights_(std::move(weights)), first_(first) {
     set_num_residuals(static_cast<int>(weights_.size()));
     mutable_parameter_block_sizes()->push_back(parameters);
   }
@@ -145,11 +146,11 @@ class PriorResiduals : public ceres::CostFunction {
     const std::size_t n = weights_.size();
     const auto cols = static_cast<std::size_t>(parameter_block_sizes()[0]);
     for (std::size_t i = 0; i < n; ++i)
-      residuals[i] = (*gains_)[i] * weights_[i] * (values[0][6 + i] - (*targets_)[i]);
+      residuals[i] = (*gains_)[i] * weights_[i] * (values[0][first_ + i] - (*targets_)[i]);
     if (jacobians && jacobians[0]) {
       std::fill(jacobians[0], jacobians[0] + n * cols, 0.0);
       for (std::size_t i = 0; i < n; ++i)
-        jacobians[0][i * cols + 6 + i] = (*gains_)[i] * weights_[i];
+        jacobians[0][i * cols + first_ + i] = (*gains_)[i] * weights_[i];
     }
     return true;
   }
@@ -158,6 +159,7 @@ class PriorResiduals : public ceres::CostFunction {
   const std::vector<double>* targets_;
   const std::vector<double>* gains_;
   std::vector<double> weights_;
+  std::size_t first_;
 };
 
 // How hard a clamped unidirectional FAP is pinned to its bound (or a held FAP to its previous
@@ -190,11 +192,16 @@ struct FapSolver::Impl {
   // The one parameter block: angle-axis (3), translation (3), then the fitted FAPs.
   std::vector<double> x;
   std::vector<double> previous;  // FAP values of the previous frame (the prior's targets)
+  // The pose prior's targets (the previous pose plus the smoothed velocity) and gains (0 on a
+  // cold start).
+  std::vector<double> pose_target, pose_gain;
   std::vector<std::vector<std::size_t>> markers_of_fap;  // fitted FAP -> markers moving it
   double neutral_pose[6] = {0, 0, 0, 0, 0, 0};
-  double last_pose[6] = {0, 0, 0, 0, 0, 0};  // pose of the frame before the previous one
+  double last_pose[6] = {0, 0, 0, 0, 0, 0};      // pose of the frame before the previous one
+  double pose_velocity[6] = {0, 0, 0, 0, 0, 0};  // per frame, smoothed (pose prior)
   tracking::HeadPose neutral_cv;
   std::unique_ptr<ceres::LossFunction> loss;
+  std::unique_ptr<ceres::LossFunction> pose_loss;  // the pose prior's (pose_prior_scale_px)
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
   ceres::Problem problem;
   ceres::Solver::Options solver;
@@ -284,6 +291,26 @@ struct FapSolver::Impl {
       costs.emplace_back(new MarkerResidual(&observations[i], m, fap_slot, &k, n));
       problem.AddResidualBlock(costs.back().get(), loss.get(), x.data());
     }
+    if (options.pose_prior_weight > 0) {
+      // Pixels per radian of rotation (the markers' RMS distance from their centroid as the
+      // lever) and per millimetre of translation across / along the optical axis.
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (const ModelMarker& m : model.markers) centroid += m.neutral;
+      centroid /= static_cast<double>(std::max<std::size_t>(1, model.markers.size()));
+      double spread = 0;
+      for (const ModelMarker& m : model.markers) spread += (m.neutral - centroid).squaredNorm();
+      const double lever =
+          std::sqrt(spread / static_cast<double>(std::max<std::size_t>(1, model.markers.size())));
+      const double w = options.pose_prior_weight, px_per_mm = cam.fx / depth;
+      const std::vector<double> weights = {w * lever * px_per_mm, w * lever * px_per_mm,
+                                           w * lever * px_per_mm, w * px_per_mm,
+                                           w * px_per_mm,         w * lever * px_per_mm / depth};
+      pose_target.assign(6, 0.0);
+      pose_gain.assign(6, 0.0);
+      costs.emplace_back(new PriorResiduals(&pose_target, &pose_gain, weights, n, 0));
+      pose_loss = std::make_unique<ceres::HuberLoss>(w * options.pose_prior_scale_px);
+      problem.AddResidualBlock(costs.back().get(), pose_loss.get(), x.data());
+    }
     if (fap_count() > 0) {
       std::vector<double> weights;
       for (std::size_t s = 0; s < fap_count(); ++s) {
@@ -292,7 +319,7 @@ struct FapSolver::Impl {
         weights.push_back(w * px_per_unit[s]);
         hold_gain[s] = kHoldWeight / std::max(w, 1e-9);
       }
-      costs.emplace_back(new PriorResiduals(&previous, &prior_gain, std::move(weights), n));
+      costs.emplace_back(new PriorResiduals(&previous, &prior_gain, std::move(weights), n, 6));
       problem.AddResidualBlock(costs.back().get(), nullptr, x.data());
     }
 
@@ -448,6 +475,7 @@ struct FapSolver::Impl {
     neutral_cv.translation[2] *= scale;
     x[5] *= scale;  // the next frame starts at the rescaled depth
     last_pose[5] *= scale;
+    pose_velocity[5] *= scale;
   }
 
   void reset() {
@@ -507,9 +535,15 @@ struct FapSolver::Impl {
     std::vector<bool> seen(fap_count(), false);
     for (std::size_t s = 0; s < fap_count(); ++s)
       for (std::size_t i : markers_of_fap[s]) seen[s] = seen[s] || observations[i].active;
+    // The pose prior's target: the previous pose moved on by the smoothed velocity.
+    if (!pose_target.empty()) {
+      for (std::size_t i = 0; i < 6; ++i) pose_target[i] = x[i] + pose_velocity[i];
+      std::fill(pose_gain.begin(), pose_gain.end(), fitted_in_a_row >= 1 ? 1.0 : 0.0);
+    }
     if (fitted_in_a_row == 0) {
       std::copy(neutral_pose, neutral_pose + 6, pose());
       std::fill(x.begin() + 6, x.end(), 0.0);
+      std::fill(std::begin(pose_velocity), std::end(pose_velocity), 0.0);
     } else {
       predict_pose();
     }
@@ -575,6 +609,12 @@ struct FapSolver::Impl {
     result.focal_px = k.fx;
     if (refine_focal) refine_focal_length(which);
     if (fitted_in_a_row == 0) std::copy(pose(), pose() + 6, last_pose);
+    if (fitted_in_a_row >= 1 && !pose_target.empty()) {
+      // An alpha-beta filter's velocity step: the velocity learns a share of the prediction's
+      // miss, so one noisy frame barely moves the next prediction.
+      for (std::size_t i = 0; i < 6; ++i)
+        pose_velocity[i] += options.pose_velocity_gain * (x[i] - pose_target[i]);
+    }
     ++fitted_in_a_row;
     result.pose = current_pose();
     for (std::size_t s = 0; s < fap_count(); ++s)

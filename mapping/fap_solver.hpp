@@ -4,9 +4,9 @@
 // neutral position moved by the FAPs acting on it (value x actor FAPU along fap_axis()).
 // Robust loss, lower bounds for unidirectional FAPs (0; not the cheeks; open_jaw a little
 // below), a weak pull toward the previous frame (weaker still for the jaw and outer lips, a
-// hard one for FAPs a hidden marker leaves ambiguous),
-// warm-started from the previous frame (the pose at constant velocity). Ceres, with one
-// parameter block (pose + FAPs) and analytic derivatives.
+// hard one for FAPs a hidden marker leaves ambiguous), a pull of the head pose toward its
+// smoothed prediction, warm-started from the previous frame (the pose at constant velocity). Ceres,
+// with one parameter block (pose + FAPs) and analytic derivatives.
 
 #include <map>
 #include <memory>
@@ -44,6 +44,27 @@ struct SolverOptions {
   std::map<int, double> prior_weight_of = {
       {3, 0.005},  {15, 0.005}, {18, 0.005}, {51, 0.005}, {52, 0.005}, {53, 0.005}, {54, 0.005},
       {55, 0.005}, {56, 0.005}, {57, 0.005}, {58, 0.005}, {59, 0.005}, {60, 0.005}};
+  // Pull of the head pose toward its prediction (the previous pose moved on by a smoothed
+  // velocity): a pose change that moves the markers by p pixels (a rotation: at their RMS
+  // distance from their centroid) costs as much as a reprojection error of
+  // pose_prior_weight x p. A frontal face tells a small pitch (or yaw) from a vertical (or
+  // sideways) move only by its depth, so the dots' frame-to-frame noise (about 0.05 px at
+  // 640x480) went into the pitch: +-100 AU on a still head (Xface disgust; the noise of the
+  // two nostril dots alone, every other marker exact, gave 88 AU RMS). Well-seen motions are
+  // held by ~30 markers against one prior and barely feel it. Measured on the closed loop:
+  // disgust's head_pitch 90 -> 72 AU RMS, fear's head_yaw 216 -> 167 AU, turns on exact
+  // tracks 0.0 -> 0.2 % of range at most (the lag). 0 turns it off.
+  double pose_prior_weight = 0.5;
+  // Beyond a miss of this many pixels the pose prior's pull stops growing (Huber): jitter is
+  // a few hundredths of a pixel, while a quick head turn the prediction did not foresee (3
+  // degrees a frame from rest) moves the markers by pixels, and a firm pull there went into
+  // the FAPs instead (their own pulls are 10-100 times weaker).
+  double pose_prior_scale_px = 0.2;
+  // How fast the prediction's velocity follows the fitted poses (alpha-beta filter's beta): a
+  // share of each frame's miss. The raw last-two-frames velocity made it worse: its noise is
+  // twice the pose's (disgust's pitch 90 -> 101 AU at weight 1; fear's yaw 9 -> 54 % of range at
+  // 5).
+  double pose_velocity_gain = 0.2;
   int max_iterations = 25;
   // Ceres' stopping rules: relative cost change, relative step size.
   double function_tolerance = 1e-6;

@@ -421,6 +421,44 @@ TEST(FapSolver, FastMouthOnAStillHeadLeavesThePoseStill) {
   EXPECT_LT(worst_jaw, 2.0) << "open_jaw (MNS)";
 }
 
+// RMS of the head FAPs' error (AU) over a warm-started take: pitch, yaw.
+std::array<double, 2> head_error_rms(const SolverOptions& options, double yaw_amplitude,
+                                     double noise_px) {
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  std::mt19937 rng(37);
+  FapSolver solver(test::exact_profile(actor, neutral), options);
+  double pitch_sq = 0, yaw_sq = 0;
+  const int frames = 100;
+  for (int i = 0; i < frames; ++i) {
+    const double t = static_cast<double>(i) / 25.0;  // 25 fps, a 4 s head period
+    const double yaw = yaw_amplitude * std::sin(2 * M_PI * t / 4.0);
+    const auto truth = test::test_expression(0.5 + 0.5 * std::sin(2.3 * t));
+    const FitResult r = solver.fit(render(actor, truth, head_pose(yaw, 0, 0), noise_px, rng, i));
+    EXPECT_TRUE(r.ok) << "frame " << i;
+    pitch_sq += std::pow(r.faps.get(48), 2);
+    yaw_sq += std::pow(r.faps.get(49) - test::deg(yaw) / kAngleUnitRad, 2);
+  }
+  return {std::sqrt(pitch_sq / frames), std::sqrt(yaw_sq / frames)};
+}
+
+// The pose prior (SolverOptions::pose_prior_weight) steadies the poorly seen head pitch of a
+// still head under tracking noise, and its prediction keeps up with a head turning at the
+// closed loop's pace (yaw +-25 degrees over 4 s).
+TEST(FapSolver, PosePriorSteadiesThePitchWithoutLaggingATurn) {
+  SolverOptions off;
+  off.pose_prior_weight = 0;
+  const auto still_off = head_error_rms(off, 0, 0.1);
+  const auto still_on = head_error_rms({}, 0, 0.1);
+  EXPECT_LT(still_on[0], 0.8 * still_off[0])
+      << "head_pitch RMS (AU) with the prior " << still_on[0] << ", without " << still_off[0];
+  const auto turning_off = head_error_rms(off, 25, 0);
+  const auto turning_on = head_error_rms({}, 25, 0);
+  // 100 AU is 0.06 degree; the turn itself spans 87,000 AU.
+  EXPECT_LT(turning_on[1], turning_off[1] + 100.0)
+      << "head_yaw RMS (AU) with the prior " << turning_on[1] << ", without " << turning_off[1];
+}
+
 TEST(HeadRotationFaps, SignsFollowTheFapTable) {
   const auto neutral = head_pose(0, 0, 0);
   const auto yaw = head_rotation_faps(neutral, head_pose(10, 0, 0));
