@@ -36,14 +36,23 @@ void scharr_window(const cv::Mat& src, cv::Mat& dst, int x0, int y0, int x1, int
     const uchar* r1 = src.ptr<uchar>(y);
     const uchar* r2 = src.ptr<uchar>(reflect(y + 1, rows));
     if (inside) {
-      const uchar *a = r0 + x0 - 1, *b = r1 + x0 - 1, *c = r2 + x0 - 1;
-      for (int k = 0; k < width; ++k) t0[k] = (a[k] + c[k]) * 3 + b[k] * 10, t1[k] = c[k] - a[k];
-    } else {
-      for (int k = 0; k < width; ++k) {
-        const int x = reflect(x0 - 1 + k, cols);
-        t0[k] = (r0[x] + r2[x]) * 3 + r1[x] * 10;
-        t1[k] = r2[x] - r0[x];
+      // Straight from the three rows: a row of sums stored and read back one element off
+      // stalled every vector load on store forwarding (a quarter of this function's time).
+      const uchar *a = r0 + x0, *b = r1 + x0, *c = r2 + x0;
+      short* out = dst.ptr<short>(y) + 2 * x0;
+      for (int k = 0; k < x1 - x0; ++k) {
+        const int right = (a[k + 1] + c[k + 1]) * 3 + b[k + 1] * 10;
+        const int left = (a[k - 1] + c[k - 1]) * 3 + b[k - 1] * 10;
+        out[2 * k] = static_cast<short>(right - left);
+        out[2 * k + 1] = static_cast<short>(((c[k + 1] - a[k + 1]) + (c[k - 1] - a[k - 1])) * 3 +
+                                            (c[k] - a[k]) * 10);
       }
+      continue;
+    }
+    for (int k = 0; k < width; ++k) {
+      const int x = reflect(x0 - 1 + k, cols);
+      t0[k] = (r0[x] + r2[x]) * 3 + r1[x] * 10;
+      t1[k] = r2[x] - r0[x];
     }
     short* out = dst.ptr<short>(y);
     for (int x = x0; x < x1; ++x) {

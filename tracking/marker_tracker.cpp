@@ -335,7 +335,8 @@ struct MarkerTracker::Impl {
       }
     }
     std::vector<uchar> status, status_back;
-    std::vector<float> err;
+    // (No error measure asked of LK: nothing reads it, and it costs a window's interpolation
+    // per point.)
     const cv::Size window(lk_window(), lk_window());
     const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
     if (!before.empty()) {
@@ -348,12 +349,12 @@ struct MarkerTracker::Impl {
       // Derivatives only where LK reads them: around the points it follows from each pyramid.
       previous_pyramid.derivatives(local_before);
       cv::calcOpticalFlowPyrLK(previous_pyramid.as_lk_input(), pyramid.as_lk_input(), local_before,
-                               after, status, err, window, options.lk_levels, stop,
+                               after, status, cv::noArray(), window, options.lk_levels, stop,
                                cv::OPTFLOW_USE_INITIAL_FLOW);
       back = local_before;
       pyramid.derivatives(after);
       cv::calcOpticalFlowPyrLK(pyramid.as_lk_input(), previous_pyramid.as_lk_input(), after, back,
-                               status_back, err, window, options.lk_levels, stop,
+                               status_back, cv::noArray(), window, options.lk_levels, stop,
                                cv::OPTFLOW_USE_INITIAL_FLOW);
       for (size_t k = 0; k < before.size(); ++k) after[k] += to_tl, back[k] += from_tl;
     }
