@@ -578,6 +578,12 @@ std::optional<Dot> measure_peak(const cv::Mat& c, cv::Point peak, float peak_val
     chosen = hi;
     extent = std::move(at_hi);
   }
+  // (DotOptions::raise_share_for_roundness.)
+  auto round_enough = [&](const Extent& e, int level) {
+    return e.roundness >= (level > 0 ? options.min_roundness_merged : options.min_roundness);
+  };
+  while (options.raise_share_for_roundness && chosen < 4 && !round_enough(extent, chosen))
+    extent = extent_of(++chosen);
   const double share = kExtentLevels[chosen];
   // Above half the blob is smaller than the dot: its rim (the anti-aliased edge, about a
   // pixel wide) is added back so the reported size does not depend on the share.
@@ -688,7 +694,13 @@ std::optional<Dot> measure_peak(const cv::Mat& c, cv::Point peak, float peak_val
       }
     }
   }
-  return Dot{{centre.x + window.x, centre.y + window.y}, diameter, peak_value, surround};
+  return Dot{{centre.x + window.x, centre.y + window.y},
+             diameter,
+             peak_value,
+             surround,
+             extent.elongation,
+             share,
+             extent.roundness};
 }
 
 }  // namespace

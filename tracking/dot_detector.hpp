@@ -40,6 +40,12 @@ struct DotOptions {
   // Centre from the ellipse through the dot's edge (see above) where its surroundings are
   // uneven; false: the contrast-weighted centroid alone.
   bool edge_fit = true;
+  // A blob of the right size that fails the roundness check at its share of the contrast is
+  // measured again at the higher shares, and kept at the first that is round enough; false:
+  // rejected. A thin dark line running into a dot (the eye slit's corner beside an inner
+  // eye-corner dot at 1280x720) adds few pixels but reaches far, so the blob at half is not
+  // round; a share up it weighs less (and the edge fit drops the rays along it).
+  bool raise_share_for_roundness = false;
 };
 
 struct Dot {
@@ -49,6 +55,15 @@ struct Dot {
   // Median contrast of a ring just outside the dot, as a share of `contrast`: near 0 for a
   // dot on skin, high for a dark disc inside a darker ring (the pupil in the iris).
   double surround = 0;
+  // Long over short axis of the blob it was measured on: a lid dot merged with the pupil
+  // below or above it is a blob twice as tall as wide.
+  double elongation = 1;
+  // The share of its contrast the blob was measured at (half on plain skin; higher where it
+  // merged with a darker feature at half), and the blob's roundness there (as
+  // DotOptions::min_roundness): a dot merged with a feature nearly as dark as its ink (an inner
+  // brow dot against the eyebrow's end) is measured high up and is long or ragged even there.
+  double share = 0.5;
+  double roundness = 1;
 };
 
 // Every dot in `gray` (8-bit, one channel) within `roi` (all of it when empty), in

@@ -11,7 +11,9 @@
 //  2. each dot is snapped to its measured centre (dot_detector.hpp), so errors never add up;
 //     a dot whose contrast, size, shape or surroundings fail the checks turns invalid, and so
 //     does one that moved unlike its neighbours or landed on another's spot, and an eye dot
-//     that grew (merged with the pupil or the other lid's dot: their centre is neither's);
+//     that grew (merged with the pupil or the other lid's dot: their centre is neither's) or,
+//     a lid dot, turned twice as tall as wide (merged with the pupil, at a dot's size); an
+//     inner brow dot merged with the eyebrow's end stays where LK put it;
 //  3. tags are re-detected in a small window around where LK puts their corners every few
 //     frames (and whenever a corner fails LK's round trip or the square changes size); in
 //     between, LK on their corners follows them (tags are rigid);
@@ -48,6 +50,12 @@ struct TrackerOptions {
   // (false), as the edge fit moved the inner brow dots at 640x480 (5 px dots against the brow's
   // fold) and flipped the identity of the mouth clip's dots.
   bool edge_fit_elsewhere = false;
+  // The inner eye-corner dots (3.8, 3.11) sit where the eye slit's corner runs out in a thin
+  // dark line. At 1280x720 the line joins the dot's blob at half its contrast and the blob
+  // fails the roundness check; DotOptions::raise_share_for_roundness measures it higher up
+  // instead (without it the inner corners were lost in 204 of 225 frames of the closed loop's
+  // still head at 1280x720).
+  bool inner_corners_raise_share = true;
   int lk_window = 13;                 // pixels
   int lk_levels = 2;                  // pyramid levels above the image: motion up to ~25 px/frame
   double region_margin_px = 24;       // LK region: the markers' box + this + the top window
@@ -76,6 +84,19 @@ struct TrackerOptions {
   // (scaled as the face). Other dots keep the looser 0.5-2x of their start size.
   double max_dot_growth = 1.15;
   double max_dot_growth_found = 1.2;
+  // Lid dots: largest long / short axis of the blob. A lid dot merged with the pupil (the
+  // upper lid lowered over it in a smile, the head pitched) keeps about a dot's area, so the
+  // growth check above passes it, but is a tall blob: 1.6-2.8 against at most 1.72 for a lone
+  // lid dot under yaw +-25 and pitch +-15 (closed loop, 640x480 and 1280x720).
+  double max_lid_elongation = 1.8;
+  // An inner brow dot (4.1, 4.2) sits at the eyebrow's end. Where the eyebrow (nearly as dark
+  // as the ink) touches it, the two merge at every share of the dot's contrast and the blob's
+  // centre, and its edge, lie up to 2 px out along the eyebrow (closed loop, head turns at
+  // 640x480: squeeze_eyebrow 14 % of range). Such a blob (measured above half its contrast, and
+  // still not at 0.9, or long or ragged there) leaves the dot where LK moved it from its last
+  // place (LK, seeing the eyebrow's end slide into its window, is pulled by about a quarter of
+  // that slide: tests/tracking/brow_merge_test.cpp). false: the blob's centre.
+  bool hold_merged_inner_brows = true;
   int min_identified = 3;  // markers needed to start tracking
 };
 
