@@ -73,6 +73,9 @@ struct MarkerTracker::Impl {
     centroid_dots.edge_fit = false;
     inner_corner_dots = options.dots;
     inner_corner_dots.raise_share_for_roundness |= options.inner_corners_raise_share;
+    inner_corner_dots_large = inner_corner_dots;
+    inner_corner_dots_large.max_elongation =
+        std::max(options.dots.max_elongation, options.inner_corner_max_elongation_large);
   }
 
   AprilTagOptions with_layout_families(AprilTagOptions o) const {
@@ -266,6 +269,7 @@ struct MarkerTracker::Impl {
     };
     const double typical_contrast = median(contrasts), typical_diameter = median(diameters);
     px = std::max(1.0, typical_diameter / options.reference_dot_px);
+    large_dots = typical_diameter >= options.reference_dot_px;
     for (size_t i = 0; i < n; ++i)
       if (!states[i].spec->is_tag() && reference_contrast[i] <= 0)
         reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter;
@@ -288,7 +292,8 @@ struct MarkerTracker::Impl {
   // chin boss lost, the chin found again on its dot), while one kept at 13 px loses the upper
   // lip's dots when the mouth opens at once (Xface joy at 2.4 s: both corners then judged
   // against the lower lip only, dropped and found again a dot off).
-  double px = 1;  // the dots' size at the start over reference_dot_px, at least 1
+  double px = 1;            // the dots' size at the start over reference_dot_px, at least 1
+  bool large_dots = false;  // the dots at the start at least reference_dot_px wide
   double max_fb_error() const { return options.max_fb_error * px; }
   double max_snap() const { return options.max_snap * px; }
   int lk_window() const {
@@ -337,9 +342,9 @@ struct MarkerTracker::Impl {
   // dots merged in a blink (not round at half, round enough higher up, where 0.4 passes); on
   // the outer corners at 640x480 it found dots lost before at 0.6 with the line still on, and
   // the edge fit then put 1 in 8 of them 1-1.6 px off (Xface fear: head yaw 9.4 -> 12.7 %).
-  DotOptions centroid_dots, inner_corner_dots;
+  DotOptions centroid_dots, inner_corner_dots, inner_corner_dots_large;
   const DotOptions& dot_options(size_t i) const {
-    if (is_inner_corner(i)) return inner_corner_dots;
+    if (is_inner_corner(i)) return large_dots ? inner_corner_dots_large : inner_corner_dots;
     return at_eye(i) || options.edge_fit_elsewhere ? options.dots : centroid_dots;
   }
   // MPEG-4 3.8, 3.11: the inner eye corners (right, left).

@@ -56,6 +56,14 @@ struct TrackerOptions {
   // instead (without it the inner corners were lost in 204 of 225 frames of the closed loop's
   // still head at 1280x720).
   bool inner_corners_raise_share = true;
+  // The longest the inner eye-corner dots' blob may be (long over short axis) when the dots
+  // are at least reference_dot_px wide; smaller dots keep DotOptions::max_elongation (3). The
+  // inner corner sits in the hollow beside the nose, seen steeply when the head turns: at
+  // 1280x720 and yaw -16 degrees it is 3.15 times as long as wide, and rejected it was found
+  // again on the lash line 10 px away (closed loop, turns: close_t_l_eyelid 18.9 % of range,
+  // 6.6 % at 4). At 640x480 a blob that long is the dot merged with the slit's corner line
+  // (joy with head turns: 57 -> 124 % at 4).
+  double inner_corner_max_elongation_large = 4;
   int lk_window = 13;                 // pixels
   int lk_levels = 2;                  // pyramid levels above the image: motion up to ~25 px/frame
   double region_margin_px = 24;       // LK region: the markers' box + this + the top window

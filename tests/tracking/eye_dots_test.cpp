@@ -47,9 +47,10 @@ MarkerLayout default_layout() {
 // dots are seen at an angle (taller than wide), as on the head. `left` changes the left eye.
 struct LeftEye {
   bool upper_lid_seen = true;
-  double upper_lid_width = 1;  // of the dot's height: less is a lid seen at an angle
-  double pupil_down_px = 0;    // from the eye's centre
-  double pupil_radius = 0.9;   // of the dot's
+  double upper_lid_width = 1;        // of the dot's height: less is a lid seen at an angle
+  double pupil_down_px = 0;          // from the eye's centre
+  double pupil_radius = 0.9;         // of the dot's
+  double inner_corner_width = 0.85;  // of the inner corner dot's height
 };
 cv::Mat draw_face(const MarkerLayout& layout, const LeftEye& left = {}) {
   cv::Mat img(480, 640, CV_8UC1, cv::Scalar(kSkin));
@@ -82,7 +83,8 @@ cv::Mat draw_face(const MarkerLayout& layout, const LeftEye& left = {}) {
       if (left.upper_lid_seen) ellipse(img, at[m.id], {left.upper_lid_width * r, r}, kInk);
       continue;
     }
-    ellipse(img, at[m.id], corner ? cv::Size2d(0.85 * r, r) : cv::Size2d(r, r), kInk);
+    const double width = m.id == "eye_l_in" ? left.inner_corner_width : 0.85;
+    ellipse(img, at[m.id], corner ? cv::Size2d(width * r, r) : cv::Size2d(r, r), kInk);
   }
   cv::GaussianBlur(img, img, {0, 0}, 0.5);
   return img;
@@ -134,6 +136,47 @@ TEST(EyeDots, LineRaisesTheShareOnlyWhenAsked) {
   const auto dot = refine_dot(img, inner, 2, raised);
   ASSERT_TRUE(dot.has_value());
   EXPECT_LT(cv::norm(dot->center - inner), 0.3);
+}
+
+// The inner corner seen steeply (the head turned away from it): a blob more than 3 times as
+// tall as wide, which large dots (12 px here, as at 1280x720) may be
+// (TrackerOptions::inner_corner_max_elongation_large); held to the general 3 it is lost.
+TEST(EyeDots, SteeplySeenInnerCornerOfLargeDotsIsKept) {
+  const MarkerLayout layout = default_layout();
+  LeftEye steep;
+  steep.inner_corner_width = 0.24;
+  const cv::Mat frontal = draw_face(layout), turned = draw_face(layout, steep);
+  cv::Point2d inner;
+  for (const MarkerSpec& m : layout.markers)
+    if (m.id == "eye_l_in") inner = to_image(m.frontal());
+  DotOptions measure;
+  measure.raise_share_for_roundness = true;
+  measure.max_elongation = 10;
+  const auto dot = refine_dot(turned, inner, 2, measure);
+  ASSERT_TRUE(dot.has_value());
+  ASSERT_GT(dot->elongation, 3.0) << "the drawing is not steep enough to test the limit";
+  ASSERT_LT(dot->elongation, 4.0);
+
+  // Started on the frontal face, then the corner seen steeply.
+  auto inner_corner_after_turn = [&](const TrackerOptions& options) {
+    MarkerTracker tracker(layout, options);
+    std::map<std::string, cv::Point2d> start;
+    for (const MarkerSpec& m : layout.markers)
+      if (!m.is_tag()) start[m.id] = to_image(m.frontal());
+    tracker.set_start_positions(start);
+    MarkerObservation last;
+    for (int k = 0; k < 6; ++k)
+      for (const MarkerObservation& o :
+           tracker.track(k < 2 ? frontal : turned, k, k / 25.0).markers)
+        if (o.marker == "eye_l_in") last = o;
+    return last;
+  };
+  const MarkerObservation kept = inner_corner_after_turn({});
+  ASSERT_TRUE(kept.valid);
+  EXPECT_LT(cv::norm(kept.position - inner), 0.3);
+  TrackerOptions general;
+  general.inner_corner_max_elongation_large = 3;
+  EXPECT_FALSE(inner_corner_after_turn(general).valid);
 }
 
 // The upper lid's dot hidden for a few frames, then seen again narrowed (the head turned) with
