@@ -10,27 +10,16 @@
 #include <opencv2/core/utility.hpp>
 #include <vector>
 
+#include "bench/mapping/capture_take.hpp"
 #include "calib/actor_prior.hpp"
-#include "eval/synth.hpp"
-#include "facecore/expression_library.hpp"
-#include "facecore/face_model.hpp"
 #include "mapping/fap_mapper.hpp"
 #include "mapping/hierarchy.hpp"
-#include "render/frame_sink.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace {
 
 using namespace rostro;
-
-class MemorySink : public render::FrameSink {
- public:
-  void write(const cv::Mat& bgr) override { frames.push_back(bgr.clone()); }
-  void finish() override {}
-  long frames_written() const override { return static_cast<long>(frames.size()); }
-  std::vector<cv::Mat> frames;
-};
 
 struct Take {
   std::vector<cv::Mat> frames;
@@ -44,20 +33,8 @@ const Take& take() {
   static const Take t = [] {
     Take out;
     out.layout = tracking::load_layout(tracking::default_layout_path());
-    const FaceModel model = load_default_face_model();
-    const ExpressionLibrary library = ExpressionLibrary::load_default();
-    FapStream drive = eval::range_of_motion(25);
-    drive.frames.resize(100);
-    eval::prepend_neutral(drive, 1.0);
-    eval::SynthOptions so;
-    so.width = 1280;
-    so.height = 720;
-    so.dot_diameter_mm = out.layout.dot_diameter_mm;
-    so.dark_dots = out.layout.polarity == tracking::DotPolarity::Dark;
-    MemorySink sink;
-    const eval::SynthResult r =
-        eval::synthesize(model, &library, eval::place_markers(model, out.layout), drive, so, sink);
-    out.frames = std::move(sink.frames);
+    bench::RenderedTake r = bench::render_capture_take(out.layout);
+    out.frames = std::move(r.frames);
     tracking::MarkerTracker tracker(out.layout);
     std::vector<tracking::TrackedFrame> neutral;
     for (int i = 0; i < kCalibrationFrames; ++i)

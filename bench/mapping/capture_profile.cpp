@@ -29,13 +29,10 @@
 #include <string>
 #include <vector>
 
+#include "bench/mapping/capture_take.hpp"
 #include "calib/actor_prior.hpp"
-#include "eval/synth.hpp"
-#include "facecore/expression_library.hpp"
-#include "facecore/face_model.hpp"
 #include "mapping/fap_mapper.hpp"
 #include "mapping/hierarchy.hpp"
-#include "render/frame_sink.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
@@ -43,39 +40,10 @@ namespace {
 
 using namespace rostro;
 
-constexpr int kWidth = 1280, kHeight = 720;
+constexpr int kWidth = bench::kTakeWidth, kHeight = bench::kTakeHeight;
 constexpr int kCalibrationFrames = 25;
 
-class MemorySink : public render::FrameSink {
- public:
-  void write(const cv::Mat& bgr) override { frames.push_back(bgr.clone()); }
-  void finish() override {}
-  long frames_written() const override { return static_cast<long>(frames.size()); }
-  std::vector<cv::Mat> frames;
-};
-
-struct Take {
-  std::vector<cv::Mat> frames;
-  calib::CameraIntrinsics intrinsics;
-};
-
-// The benchmark's take (bench_capture_throughput.cpp, take()).
-Take render_take(const tracking::MarkerLayout& layout) {
-  const FaceModel model = load_default_face_model();
-  const ExpressionLibrary library = ExpressionLibrary::load_default();
-  FapStream drive = eval::range_of_motion(25);
-  drive.frames.resize(100);
-  eval::prepend_neutral(drive, 1.0);
-  eval::SynthOptions so;
-  so.width = kWidth;
-  so.height = kHeight;
-  so.dot_diameter_mm = layout.dot_diameter_mm;
-  so.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
-  MemorySink sink;
-  const eval::SynthResult r =
-      eval::synthesize(model, &library, eval::place_markers(model, layout), drive, so, sink);
-  return {std::move(sink.frames), r.intrinsics};
-}
+using Take = bench::RenderedTake;
 
 // CACHE: frame count, fx fy cx cy, then the frames' BGR bytes.
 void save(const std::filesystem::path& path, const Take& t) {
@@ -145,7 +113,7 @@ int main(int argc, char** argv) {
   const std::filesystem::path cache = argv[1];
   const long frames = argc > 2 ? std::stol(argv[2]) : 200;
   const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
-  if (!std::filesystem::exists(cache)) save(cache, render_take(layout));
+  if (!std::filesystem::exists(cache)) save(cache, bench::render_capture_take(layout));
   const Take t = load(cache);
 
   tracking::MarkerTracker calibration_tracker(layout);
