@@ -44,7 +44,7 @@ struct DotOptions {
   // measured again at the higher shares, and kept at the first that is round enough; false:
   // rejected. A thin dark line running into a dot (the eye slit's corner beside an inner
   // eye-corner dot at 1280x720) adds few pixels but reaches far, so the blob at half is not
-  // round; a share up it weighs less (and the edge fit drops the rays along it).
+  // round; a share up it weighs less.
   bool raise_share_for_roundness = false;
 };
 

@@ -45,8 +45,9 @@ struct TrackerOptions {
   // start (a larger image of the face) they grow in proportion (the LK window with the square
   // root of it).
   double reference_dot_px = 8;
-  // The edge-fitted centre (DotOptions::edge_fit) for the eye dots (lids and corners), where
-  // the centroid is pulled toward the slit and the lashes by 0.4-0.6 px; elsewhere the centroid
+  // The edge-fitted centre (DotOptions::edge_fit) for the lid and outer eye-corner dots, where
+  // the centroid is pulled toward the slit and the lashes by 0.4-0.6 px (the inner corners: see
+  // inner_corners_raise_share); elsewhere the centroid
   // (false), as the edge fit moved the inner brow dots at 640x480 (5 px dots against the brow's
   // fold) and flipped the identity of the mouth clip's dots.
   bool edge_fit_elsewhere = false;
@@ -54,7 +55,8 @@ struct TrackerOptions {
   // dark line. At 1280x720 the line joins the dot's blob at half its contrast and the blob
   // fails the roundness check; DotOptions::raise_share_for_roundness measures it higher up
   // instead (without it the inner corners were lost in 204 of 225 frames of the closed loop's
-  // still head at 1280x720).
+  // still head at 1280x720). They are centred by the centroid of that blob: the edge fit's
+  // rays there run along the line and the lashes.
   bool inner_corners_raise_share = true;
   // The longest the inner eye-corner dots' blob may be (long over short axis) when the dots
   // are at least reference_dot_px wide; smaller dots keep DotOptions::max_elongation (3). The
