@@ -68,6 +68,7 @@ struct MarkerTracker::Impl {
       s.spec = &m;
       states.push_back(s);
     }
+    find_lid_corners();
     options.dots.polarity = layout.polarity;
     centroid_dots = options.dots;
     centroid_dots.edge_fit = false;
@@ -352,10 +353,12 @@ struct MarkerTracker::Impl {
     if (is_inner_corner(i)) return large_dots ? inner_corner_dots_large : inner_corner_dots;
     return at_eye(i) || options.edge_fit_elsewhere ? options.dots : centroid_dots;
   }
-  // MPEG-4 3.8, 3.11: the inner eye corners (right, left).
+  // MPEG-4 3.x: the eye corners' indices.
+  static constexpr int kRightInnerCorner = 8, kLeftInnerCorner = 11, kLeftOuterCorner = 7,
+                       kRightOuterCorner = 12;
   bool is_inner_corner(size_t i) const {
     const FeaturePointId& fp = states[i].spec->feature_point;
-    return fp.group == 3 && (fp.index == 8 || fp.index == 11);
+    return fp.group == 3 && (fp.index == kRightInnerCorner || fp.index == kLeftInnerCorner);
   }
   // MPEG-4 3.1-3.4: the upper and lower lids' midpoints (odd: the face's left eye).
   bool is_lid(size_t i) const {
@@ -703,18 +706,26 @@ struct MarkerTracker::Impl {
            options.lid_sideways_fraction * spacing[i] * scale;
   }
 
-  // The corners of the eye lid dot i belongs to (MPEG-4 3.11/3.7 left, 3.8/3.12 right).
-  std::optional<std::pair<size_t, size_t>> eye_corners(size_t i) const {
-    const int left = states[i].spec->feature_point.index % 2;
-    std::optional<size_t> inner, outer;
-    for (size_t j = 0; j < states.size(); ++j) {
-      const FeaturePointId& fp = states[j].spec->feature_point;
-      if (fp.group != 3) continue;
-      if (fp.index == (left ? 11 : 8)) inner = j;
-      if (fp.index == (left ? 7 : 12)) outer = j;
+  // The corners (inner, outer) of the eye each lid dot belongs to, found once from the layout
+  // (MPEG-4 3.11/3.7 left, 3.8/3.12 right); empty for other dots and when a corner has no dot.
+  std::vector<std::optional<std::pair<size_t, size_t>>> lid_corners;
+  void find_lid_corners() {
+    lid_corners.assign(states.size(), std::nullopt);
+    for (size_t i = 0; i < states.size(); ++i) {
+      if (!is_lid(i)) continue;
+      const bool left = states[i].spec->feature_point.index % 2 == 1;
+      std::optional<size_t> inner, outer;
+      for (size_t j = 0; j < states.size(); ++j) {
+        const FeaturePointId& fp = states[j].spec->feature_point;
+        if (fp.group != 3) continue;
+        if (fp.index == (left ? kLeftInnerCorner : kRightInnerCorner)) inner = j;
+        if (fp.index == (left ? kLeftOuterCorner : kRightOuterCorner)) outer = j;
+      }
+      if (inner && outer) lid_corners[i] = std::pair{*inner, *outer};
     }
-    if (!inner || !outer) return std::nullopt;
-    return std::pair{*inner, *outer};
+  }
+  const std::optional<std::pair<size_t, size_t>>& eye_corners(size_t i) const {
+    return lid_corners[i];
   }
 
   // The image direction of lid i's eye from inner to outer corner, as the prediction maps it.
