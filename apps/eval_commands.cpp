@@ -258,11 +258,14 @@ void eval_loop(const LoopArgs& a) {
                                               [&](long done, long) { progress.update(done); }));
     progress.finish();
     if (!a.out.empty()) {
-      // The streams behind the tables, for `rostro eval faps --plot`.
+      // The streams behind the tables, for `rostro eval faps --plot`, and the tracks behind
+      // them, for `rostro eval tracks`.
       const eval::LoopResult& r = results.back();
       std::filesystem::create_directories(a.out);
       const std::filesystem::path dir(a.out);
       write_fap_stream(dir / (r.name + ".truth.fap"), r.drive);
+      tracking::write_tracks(dir / (r.name + ".tracks.csv"), r.tracks);
+      tracking::write_tracks(dir / (r.name + ".truth.csv"), r.truth_tracks);
       for (const auto& score : r.scores) {
         std::string label = eval::method_label(score.method);
         std::replace(label.begin(), label.end(), ' ', '-');
@@ -376,7 +379,8 @@ void add_eval_commands(CLI::App& app) {
   loop->add_option("--only", lo.only, "run only these scenarios, e.g. still,turns");
   loop->add_option("--out", lo.out,
                    "also write each scenario's truth and mapped streams here as .fap "
-                   "(NAME.truth.fap, NAME.ceres.fap, ...)");
+                   "(NAME.truth.fap, NAME.ceres.fap, ...) and its tracked and exact marker "
+                   "tracks (NAME.tracks.csv, NAME.truth.csv)");
   loop->add_option("--markdown", lo.markdown,
                    "write the tables into this Markdown file's \"## Closed loop: FAPs\" section");
   loop->footer(

@@ -297,6 +297,8 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   for (int id = 3; id <= kFapCount; ++id)
     if (!measured.count(id) && extent(drive, id).range > 0) r.driven_untracked.push_back(id);
   r.drive = drive;
+  r.tracks = std::move(tracked);
+  r.truth_tracks = truth.truth;
 
   for (LoopScore& score : r.scores) {
     double sum = 0;

@@ -100,7 +100,10 @@ struct LoopResult {
   // FAPs the drive moves that are not tracked: derived by the hierarchy (inner lip from outer
   // lip, ...) or on no marker. Listed so that what the aim does not cover is visible.
   std::vector<int> driven_untracked;
-  FapStream drive;                // the truth: the driving stream as rendered
+  FapStream drive;  // the truth: the driving stream as rendered
+  // The marker tracks the tracker followed on the rendered frames, and the exact ones the
+  // renderer projected (for `rostro eval tracks`).
+  std::vector<tracking::TrackedFrame> tracks, truth_tracks;
   std::vector<LoopScore> scores;  // in kLoopMethods order
   const LoopScore& score(LoopMethod m) const;
 };
