@@ -13,7 +13,7 @@
 //     does one that moved unlike its neighbours or landed on another's spot, and an eye dot
 //     that grew (merged with the pupil or the other lid's dot: their centre is neither's) or,
 //     a lid dot, turned twice as tall as wide (merged with the pupil, at a dot's size); an
-//     inner brow dot merged with the eyebrow's end stays where LK put it;
+//     inner brow dot merged with the eyebrow's end is placed by its ink's darker core;
 //  3. tags are re-detected in a small window around where LK puts their corners every few
 //     frames (and whenever a corner fails LK's round trip or the square changes size); in
 //     between, LK on their corners follows them (tags are rigid);
@@ -103,10 +103,17 @@ struct TrackerOptions {
   // as the ink) touches it, the two merge at every share of the dot's contrast and the blob's
   // centre, and its edge, lie up to 2 px out along the eyebrow (closed loop, head turns at
   // 640x480: squeeze_eyebrow 14 % of range). Such a blob (measured above half its contrast, and
-  // still not at 0.9, or long or ragged there) leaves the dot where LK moved it from its last
-  // place (LK, seeing the eyebrow's end slide into its window, is pulled by about a quarter of
-  // that slide: tests/tracking/brow_merge_test.cpp). false: the blob's centre.
+  // still not at 0.9, or long or ragged there) does not place the dot by its centre
+  // (tests/tracking/brow_merge_test.cpp). false: the blob's centre.
   bool hold_merged_inner_brows = true;
+  // Such a dot is placed at the centre of its ink's core (tracking/ink_core.hpp): the pixels within
+  // this share of its contrast of the darkest within 0.7 of its width of where LK moved it (of the
+  // merged blob's centre when found again after a loss, or at the start). The ink is darker than
+  // the eyebrow's end. Held where LK moved it, the dot drifted: LK weighs the eyebrow in its
+  // window, and each frame's pull added to the last (closed loop, turns at 640x480: 0.2 -> 0.9 px
+  // off over 55 frames, squeeze_r_eyebrow 8.5 % of range, about 3 % with the core); a dot found
+  // again on the merged blob was held 1.7 px off. 0: where LK moved it.
+  double inner_brow_core_tolerance = 0.08;
   int min_identified = 3;  // markers needed to start tracking
 };
 
