@@ -287,6 +287,7 @@ struct MarkerTracker::Impl {
         reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter;
 
     recent_diameter = reference_diameter;
+    recent_elongation.assign(n, 1);
     face_scale = 1;
     spacing.assign(n, std::numeric_limits<double>::max());
     for (size_t i = 0; i < n; ++i)
@@ -316,14 +317,21 @@ struct MarkerTracker::Impl {
   // a lid dot as the lid closes, the other lid's dot in a blink. Its centre is then the
   // pair's and neither marker's, so it is reported lost. A followed dot changes size slowly
   // (`recent_diameter`, its last sizes measured, smoothed); one found again after a loss may
-  // have turned toward the camera meanwhile, so it may be a little larger than it was then
-  // or at the start, not as large as two dots.
+  // have turned toward the camera meanwhile, so after a long loss it may be a little larger
+  // than it was then or at the start, not as large as two dots (after a short one, than it was
+  // then, when it was seen edge-on: merged with a dark neighbour it is about its start size).
   bool dot_passes(size_t i, const Dot& d, bool followed) const {
     const double was = recent_diameter[i] > 0 ? recent_diameter[i] : reference_diameter[i];
+    // (TrackerOptions::eye_size_memory_frames: an eye dot last seen edge-on and lost a short
+    // while keeps its own size.)
+    const bool edge_on_lately = states[i].lost_frames < options.eye_size_memory_frames &&
+                                recent_elongation[i] >= options.edge_on_elongation;
+    const double grown_from =
+        followed || edge_on_lately ? was : std::max(was, reference_diameter[i] * face_scale);
     const double largest =
-        followed ? options.max_dot_growth * was
-                 : options.max_dot_growth_found * std::max(was, reference_diameter[i] * face_scale);
+        (followed ? options.max_dot_growth : options.max_dot_growth_found) * grown_from;
     if (is_lid(i) && d.elongation > options.max_lid_elongation) return false;
+    if (is_lid(i) && d.surround > options.max_lid_surround) return false;
     return d.contrast >= options.min_contrast_ratio * reference_contrast[i] &&
            d.diameter >= 0.5 * reference_diameter[i] &&
            d.diameter <= (at_eye(i) ? largest : 2.0 * reference_diameter[i]);
@@ -459,6 +467,7 @@ struct MarkerTracker::Impl {
       if (options.hold_merged_inner_brows && is_inner_brow(owner[k]) && merged_with_brow(*d))
         s.position = merged_brow_position(cv::Point2d(after[k]), cv::Point2d(after[k]), *d);
       recent_diameter[owner[k]] = 0.7 * recent_diameter[owner[k]] + 0.3 * d->diameter;
+      recent_elongation[owner[k]] = d->elongation;
       s.quality = std::clamp(d->contrast / reference_contrast[owner[k]], 0.0, 1.0) *
                   (1 - 0.5 * fb / max_fb_error());
     }
@@ -717,6 +726,7 @@ struct MarkerTracker::Impl {
       if (options.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(d))
         s.position = merged_brow_position(d.center, d.center, d);
       recent_diameter[i] = d.diameter;
+      recent_elongation[i] = d.elongation;
       s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
       return;
     }

@@ -94,11 +94,26 @@ struct TrackerOptions {
   // (scaled as the face). Other dots keep the looser 0.5-2x of their start size.
   double max_dot_growth = 1.15;
   double max_dot_growth_found = 1.2;
+  // ... except that an eye dot last seen edge-on (at least edge_on_elongation long over short)
+  // and lost for fewer frames than this is held to its size when last seen, not the larger of
+  // that and its start size: an inner eye-corner dot seen edge-on under a head turn (a third of
+  // its start width) merges with the eye slit's dark corner beside it into a blob about its
+  // start size, whose centre lies 2-4 px into the eye (closed loop, Xface joy with head turns,
+  // at 640x480 and 1280x720). Not after a round dot: one shrunk for a while (half covered) comes
+  // back at its start size (suite, occlusion: 6 -> 29 lost frames). 0: the start size always.
+  int eye_size_memory_frames = 25;
+  double edge_on_elongation = 2;
   // Lid dots: largest long / short axis of the blob. A lid dot merged with the pupil (the
   // upper lid lowered over it in a smile, the head pitched) keeps about a dot's area, so the
   // growth check above passes it, but is a tall blob: 1.6-2.8 against at most 1.72 for a lone
   // lid dot under yaw +-25 and pitch +-15 (closed loop, 640x480 and 1280x720).
   double max_lid_elongation = 1.8;
+  // Lid dots: largest median contrast of the ring just outside the blob, as a share of its own
+  // (Dot::surround; DotOptions::max_surround, 0.55, holds for every dot). A lower-lid dot merged
+  // with the pupil above it (the lid raised in a smile, the head pitched) is measured high up,
+  // its centre 2-3 px into the eye, inside the dark iris: 0.45-0.55 there, against at most 0.45
+  // for a lone lid dot at 640x480 (7 frames in 2356 above it at 1280x720; closed loop clips).
+  double max_lid_surround = 0.45;
   // An inner brow dot (4.1, 4.2) sits at the eyebrow's end. Where the eyebrow (nearly as dark
   // as the ink) touches it, the two merge at every share of the dot's contrast and the blob's
   // centre, and its edge, lie up to 2 px out along the eyebrow (closed loop, head turns at
