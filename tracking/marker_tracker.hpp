@@ -23,7 +23,8 @@
 //     eyes sit at another depth; any dot so in the frame it is lost in), among every dot there,
 //     nearest first, and comes back with its own identity; it is never guessed while unseen. A lid
 //     dot is only accepted between its eye's corner line and not far beyond its start distance from
-//     it.
+//     it. The lower lip's dots are looked for together, below the upper lip, and found again
+//     only where their shape fits (TrackerOptions::lower_lip_together).
 
 #include <map>
 #include <memory>
@@ -87,6 +88,24 @@ struct TrackerOptions {
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.
   double max_relative_motion = 0.35;
   double max_relative_motion_px = 4;
+  // The lower lip's dots (MPEG-4 8.2, 8.7, 8.8) when the mouth opens or shuts within a frame
+  // (Xface joy: the lower lip 17-23 px in a frame at 1280x720, past LK's reach and past
+  // search_fraction). Lost ones are looked for together, not one by one: in the frame of the
+  // upper lip's and the corners' dots (a similarity from their start positions), in a strip
+  // from lower_lip_up above to lower_lip_down below each dot's start place and
+  // lower_lip_sideways to either side (fractions of the lower lip's spacing: the closed loop's
+  // drives reach 1.3-2.1 down and 0.4 sideways), and taken only where one shift puts at least
+  // two of the three, followed or found, each on a dot within lower_lip_shape of it (the three
+  // keep their shape to 0.37). One at a time a dropped dot was found again on the open mouth's
+  // dark corner or on its neighbour's dot, up to 30 px off (joy with head turns at 1280x720:
+  // raise_b_lip 33 % of range). The lower lip's dots are also no neighbours in the other dots'
+  // check that a dot moves as its neighbours do: the lower lip moves unlike them. false: one by
+  // one, as any dot.
+  bool lower_lip_together = true;
+  double lower_lip_up = 0.5;
+  double lower_lip_down = 2.5;
+  double lower_lip_sideways = 0.6;
+  double lower_lip_shape = 0.4;
   // Eye dots (lids, corners): largest size of a followed dot over its size in the last
   // frames. A larger blob is the dot merged with a dark neighbour (the pupil, the other lid's
   // dot in a blink), whose centre is neither's: the dot is reported lost. The same for a dot
