@@ -12,11 +12,16 @@
 #include <string>
 #include <vector>
 
+#include "tests/tracking/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace rostro::tracking {
 namespace {
+
+using testing::draw_disc;
+using testing::fixed_point;
+using testing::start_on_drawing;
 
 constexpr double kPxPerMm = 2.4;
 constexpr int kFrames = 30;
@@ -28,11 +33,6 @@ cv::Point2d face_shift(int k) {
 
 cv::Point2d to_image(cv::Point2d mm, int k) {
   return cv::Point2d(320 + mm.x * kPxPerMm, 230 + mm.y * kPxPerMm) + face_shift(k);
-}
-
-// 1/16 pixel fixed point, as the drawing calls take it.
-cv::Point fixed(cv::Point2d p) {
-  return {cvRound(p.x * 16), cvRound(p.y * 16)};
 }
 
 // Frame k: flat skin, every dot of the layout at its frontal place, and the left eyebrow: a band
@@ -58,14 +58,13 @@ cv::Point2d render(const MarkerLayout& layout, int k, cv::Mat& img,
     const double x1 =
         x0 + std::max(1.5, (grey - 35) / 65.0 * 2.5 * kPxPerMm) + (grey == 100 ? 21 * kPxPerMm : 0);
     const std::vector<cv::Point> band = {
-        fixed({x0, centre.y - half_width}), fixed({x1, centre.y - half_width}),
-        fixed({x1, centre.y + half_width}), fixed({x0, centre.y + half_width})};
+        fixed_point({x0, centre.y - half_width}), fixed_point({x1, centre.y - half_width}),
+        fixed_point({x1, centre.y + half_width}), fixed_point({x0, centre.y + half_width})};
     cv::fillConvexPoly(img, band, cv::Scalar(grey), cv::LINE_AA, 4);
   }
   for (const MarkerSpec& m : layout.markers) {
     if (m.is_tag()) continue;
-    cv::circle(img, fixed(to_image(m.frontal(), k)), cvRound(radius_px * 16), cv::Scalar(25),
-               cv::FILLED, cv::LINE_AA, 4);
+    draw_disc(img, to_image(m.frontal(), k), radius_px, 25);
   }
   cv::GaussianBlur(img, img, {0, 0}, 0.7);
   return centre;
@@ -80,10 +79,7 @@ BrowTrack track_brow(const TrackerOptions& options, bool merged_from_start = fal
       load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
   MarkerTracker tracker(layout, options);
   // Started from the drawn places (a flat drawing is no face for automatic identification).
-  std::map<std::string, cv::Point2d> start;
-  for (const MarkerSpec& m : layout.markers)
-    if (!m.is_tag()) start[m.id] = to_image(m.frontal(), 0);
-  tracker.set_start_positions(start);
+  start_on_drawing(tracker, layout, [&](const MarkerSpec& m) { return to_image(m.frontal(), 0); });
   BrowTrack out;
   for (int k = 0; k < kFrames; ++k) {
     cv::Mat img;

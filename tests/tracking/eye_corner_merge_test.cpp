@@ -12,11 +12,16 @@
 #include <string>
 #include <vector>
 
+#include "tests/tracking/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace rostro::tracking {
 namespace {
+
+using testing::fixed_point;
+using testing::follow_marker;
+using testing::start_on_drawing;
 
 constexpr double kPxPerMm = 3;  // 4 mm dots 12 px wide: the tracker's large-dot settings
 constexpr int kFrames = 24;
@@ -26,11 +31,6 @@ constexpr int kMerged = 14;  // from this frame on the slit's corner touches it
 // Frontal layout millimetres (x right, y down) to pixels.
 cv::Point2d to_image(cv::Point2d mm) {
   return {640 + mm.x * kPxPerMm, 330 + mm.y * kPxPerMm};
-}
-
-constexpr int kShift = 4;  // sub-pixel bits for the drawing calls
-cv::Point fixed(cv::Point2d p) {
-  return {cvRound(p.x * (1 << kShift)), cvRound(p.y * (1 << kShift))};
 }
 
 // Frame k: every dot at its frontal place on flat skin; the left inner corner dot narrowing to a
@@ -50,15 +50,17 @@ cv::Point2d render(const MarkerLayout& layout, int k, cv::Mat& img) {
       corner = c;
       width = corner_width = radius * (1 - 0.67 * std::min(k, kTurned) / kTurned);
     }
-    cv::ellipse(img, fixed(c),
-                cv::Size(cvRound(width * (1 << kShift)), cvRound(radius * (1 << kShift))), 0, 0,
-                360, cv::Scalar(22), cv::FILLED, cv::LINE_AA, kShift);
+    cv::ellipse(img, fixed_point(c),
+                cv::Size(cvRound(width * (1 << testing::kDrawShift)),
+                         cvRound(radius * (1 << testing::kDrawShift))),
+                0, 0, 360, cv::Scalar(22), cv::FILLED, cv::LINE_AA, testing::kDrawShift);
   }
   const double gap = k >= kMerged ? -0.5 : 3.0;
   const cv::Point2d apex = corner + cv::Point2d(corner_width + gap, 0);
-  const std::vector<cv::Point> slit{fixed(apex), fixed(apex + cv::Point2d(2 * radius, -radius)),
-                                    fixed(apex + cv::Point2d(2 * radius, radius))};
-  cv::fillConvexPoly(img, slit, cv::Scalar(28), cv::LINE_AA, kShift);
+  const std::vector<cv::Point> slit{fixed_point(apex),
+                                    fixed_point(apex + cv::Point2d(2 * radius, -radius)),
+                                    fixed_point(apex + cv::Point2d(2 * radius, radius))};
+  cv::fillConvexPoly(img, slit, cv::Scalar(28), cv::LINE_AA, testing::kDrawShift);
   return corner;
 }
 
@@ -68,20 +70,9 @@ std::vector<double> track_corner(const TrackerOptions& options) {
       load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
   MarkerTracker tracker(layout, options);
   // Started from the drawn places (a flat drawing is no face for automatic identification).
-  std::map<std::string, cv::Point2d> start;
-  for (const MarkerSpec& m : layout.markers)
-    if (!m.is_tag()) start[m.id] = to_image(m.frontal());
-  tracker.set_start_positions(start);
-  std::vector<double> errors;
-  for (int k = 0; k < kFrames; ++k) {
-    cv::Mat img;
-    const cv::Point2d truth = render(layout, k, img);
-    cv::GaussianBlur(img, img, {0, 0}, 0.8);
-    const TrackedFrame f = tracker.track(img, k, k / 25.0);
-    for (const MarkerObservation& o : f.markers)
-      if (o.marker == "eye_l_in") errors.push_back(o.valid ? cv::norm(o.position - truth) : -1);
-  }
-  return errors;
+  start_on_drawing(tracker, layout, [&](const MarkerSpec& m) { return to_image(m.frontal()); });
+  return follow_marker(tracker, "eye_l_in", kFrames, 0.8,
+                       [&](int k, cv::Mat& img) { return render(layout, k, img); });
 }
 
 TEST(EyeCornerMerge, EdgeOnCornerDotMergedWithTheSlitIsLostNotMisplaced) {

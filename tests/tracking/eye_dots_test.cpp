@@ -11,12 +11,16 @@
 #include <string>
 #include <vector>
 
+#include "tests/tracking/drawn_layout.hpp"
 #include "tracking/dot_detector.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace rostro::tracking {
 namespace {
+
+using testing::fixed_point;
+using testing::start_on_drawing;
 
 constexpr double kPxPerMm = 3.0;  // 4 mm dots 12 px wide, as the eye dots at 1280x720 (9-12)
 constexpr int kSkin = 180, kInk = 25, kLine = 60;
@@ -26,12 +30,8 @@ cv::Point2d to_image(cv::Point2d mm) {
   return {320 + mm.x * kPxPerMm, 230 + mm.y * kPxPerMm};
 }
 
-cv::Point fixed(cv::Point2d p) {
-  return {cvRound(p.x * 16), cvRound(p.y * 16)};
-}
-
 void ellipse(cv::Mat& img, cv::Point2d c, cv::Size2d semi_axes, int grey) {
-  cv::ellipse(img, fixed(c),
+  cv::ellipse(img, fixed_point(c),
               cv::Size(cvRound(semi_axes.width * 16), cvRound(semi_axes.height * 16)), 0, 0, 360,
               cv::Scalar(grey), cv::FILLED, cv::LINE_AA, 4);
 }
@@ -66,11 +66,13 @@ cv::Mat draw_face(const MarkerLayout& layout, const LeftEye& left = {}) {
     // The slit: light, from just outside each corner dot to the lids.
     const double tip = 1.8 * r;
     const cv::Point2d toward_out = (out - in) * (1.0 / cv::norm(out - in));
-    std::vector<cv::Point> slit = {fixed(in + toward_out * tip), fixed(up + cv::Point2d(0, r)),
-                                   fixed(out - toward_out * tip), fixed(low - cv::Point2d(0, r))};
+    std::vector<cv::Point> slit = {
+        fixed_point(in + toward_out * tip), fixed_point(up + cv::Point2d(0, r)),
+        fixed_point(out - toward_out * tip), fixed_point(low - cv::Point2d(0, r))};
     cv::fillConvexPoly(img, slit, cv::Scalar(225), cv::LINE_AA, 4);
     // The corner line: one pixel, dark, from the inner corner dot to the slit's tip.
-    cv::line(img, fixed(in), fixed(in + toward_out * tip), cv::Scalar(kLine), 1, cv::LINE_AA, 4);
+    cv::line(img, fixed_point(in), fixed_point(in + toward_out * tip), cv::Scalar(kLine), 1,
+             cv::LINE_AA, 4);
     const LeftEye eye = s == "l" ? left : LeftEye{};
     ellipse(img, centre, {2.2 * r, 2.2 * r}, 110);  // iris
     const double pupil = eye.pupil_radius * r;
@@ -95,10 +97,7 @@ std::vector<std::map<std::string, MarkerObservation>> track_still(const cv::Mat&
                                                                   const TrackerOptions& options) {
   const MarkerLayout layout = default_layout();
   MarkerTracker tracker(layout, options);
-  std::map<std::string, cv::Point2d> start;
-  for (const MarkerSpec& m : layout.markers)
-    if (!m.is_tag()) start[m.id] = to_image(m.frontal());
-  tracker.set_start_positions(start);
+  start_on_drawing(tracker, layout, [&](const MarkerSpec& m) { return to_image(m.frontal()); });
   std::vector<std::map<std::string, MarkerObservation>> out;
   for (int k = 0; k < frames; ++k) {
     std::map<std::string, MarkerObservation> f;
@@ -160,10 +159,7 @@ TEST(EyeDots, SteeplySeenInnerCornerOfLargeDotsIsKept) {
   // Started on the frontal face, then the corner seen steeply.
   auto inner_corner_after_turn = [&](const TrackerOptions& options) {
     MarkerTracker tracker(layout, options);
-    std::map<std::string, cv::Point2d> start;
-    for (const MarkerSpec& m : layout.markers)
-      if (!m.is_tag()) start[m.id] = to_image(m.frontal());
-    tracker.set_start_positions(start);
+    start_on_drawing(tracker, layout, [&](const MarkerSpec& m) { return to_image(m.frontal()); });
     MarkerObservation last;
     for (int k = 0; k < 6; ++k)
       for (const MarkerObservation& o :

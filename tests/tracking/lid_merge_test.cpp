@@ -9,11 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "tests/tracking/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace rostro::tracking {
 namespace {
+
+using testing::draw_disc;
+using testing::follow_marker;
+using testing::start_on_drawing;
 
 constexpr double kPxPerMm = 2.4;
 
@@ -22,23 +27,18 @@ cv::Point2d to_image(cv::Point2d mm) {
   return {320 + mm.x * kPxPerMm, 230 + mm.y * kPxPerMm};
 }
 
-void disc(cv::Mat& img, cv::Point2d c, double radius_px, int grey) {
-  cv::circle(img, cv::Point(cvRound(c.x * 16), cvRound(c.y * 16)), cvRound(radius_px * 16),
-             cv::Scalar(grey), cv::FILLED, cv::LINE_AA, 4);
-}
-
 // Frame k: every dot of the layout at its frontal place on flat skin, a pupil between the left
 // lids, and the left lower-lid dot rising toward it by 0.25 mm a frame. Returns its truth.
 cv::Point2d render(const MarkerLayout& layout, int k, cv::Mat& img) {
   img = cv::Mat(480, 640, CV_8UC1, cv::Scalar(180));
   cv::Point2d truth;
-  disc(img, to_image({30, -36}), 4.0 * kPxPerMm, 90);  // the iris, up to the lid dots
-  disc(img, to_image({30, -36}), 2.0 * kPxPerMm, 10);  // the pupil: darker than a dot
+  draw_disc(img, to_image({30, -36}), 4.0 * kPxPerMm, 90);  // the iris, up to the lid dots
+  draw_disc(img, to_image({30, -36}), 2.0 * kPxPerMm, 10);  // the pupil: darker than a dot
   for (const MarkerSpec& m : layout.markers) {
     if (m.is_tag()) continue;
     cv::Point2d mm = m.frontal();
     if (m.id == "lid_l_low") mm.y -= 0.25 * k, truth = to_image(mm);
-    disc(img, to_image(mm), layout.dot_diameter_mm / 2 * kPxPerMm, 25);
+    draw_disc(img, to_image(mm), layout.dot_diameter_mm / 2 * kPxPerMm, 25);
   }
   return truth;
 }
@@ -49,20 +49,9 @@ std::vector<double> track_lid(const TrackerOptions& options) {
       load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
   MarkerTracker tracker(layout, options);
   // Started from the drawn places (a flat drawing is no face for automatic identification).
-  std::map<std::string, cv::Point2d> start;
-  for (const MarkerSpec& m : layout.markers)
-    if (!m.is_tag()) start[m.id] = to_image(m.frontal());
-  tracker.set_start_positions(start);
-  std::vector<double> errors;
-  for (int k = 0; k <= 24; ++k) {
-    cv::Mat img;
-    const cv::Point2d truth = render(layout, k, img);
-    cv::GaussianBlur(img, img, {0, 0}, 0.7);
-    const TrackedFrame f = tracker.track(img, k, k / 25.0);
-    for (const MarkerObservation& o : f.markers)
-      if (o.marker == "lid_l_low") errors.push_back(o.valid ? cv::norm(o.position - truth) : -1);
-  }
-  return errors;
+  start_on_drawing(tracker, layout, [&](const MarkerSpec& m) { return to_image(m.frontal()); });
+  return follow_marker(tracker, "lid_l_low", 25, 0.7,
+                       [&](int k, cv::Mat& img) { return render(layout, k, img); });
 }
 
 TEST(LidMerge, LowerLidDotOnThePupilIsLostNotMisplaced) {

@@ -13,11 +13,16 @@
 #include <string>
 #include <vector>
 
+#include "tests/tracking/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace rostro::tracking {
 namespace {
+
+using testing::draw_and_track;
+using testing::DrawnRun;
+using testing::start_on_drawing;
 
 // Frontal layout millimetres (x right, y down) to pixels, `scale` pixels a millimetre, in an
 // image of 640x480 at 2.4 and in proportion.
@@ -32,40 +37,24 @@ bool left_eye(const MarkerSpec& m) {
 // Where each dot is in frame k (frontal millimetres), or nothing while it is hidden.
 using Placement = std::function<std::optional<cv::Point2d>(const MarkerSpec&, int k)>;
 
-struct TrackedRun {
-  std::vector<std::map<std::string, cv::Point2d>> truth;  // per frame, the dots drawn
-  std::vector<std::map<std::string, cv::Point2d>> seen;   // per frame, the valid markers
-};
-
-TrackedRun track(const Placement& place, int frames, double scale = 2.4,
-                 const TrackerOptions& options = {}) {
+DrawnRun track(const Placement& place, int frames, double scale = 2.4,
+               const TrackerOptions& options = {}) {
   const MarkerLayout layout =
       load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
   MarkerTracker tracker(layout, options);
-  std::map<std::string, cv::Point2d> start;
-  for (const MarkerSpec& m : layout.markers)
-    if (!m.is_tag()) start[m.id] = to_image(*place(m, 0), scale);
-  tracker.set_start_positions(start);
-  TrackedRun run;
+  start_on_drawing(tracker, layout,
+                   [&](const MarkerSpec& m) { return to_image(*place(m, 0), scale); });
+  DrawnRun run;
   for (int k = 0; k < frames; ++k) {
     cv::Mat img(cvRound(480 * scale / 2.4), cvRound(640 * scale / 2.4), CV_8UC1, cv::Scalar(180));
-    std::map<std::string, cv::Point2d> truth;
-    for (const MarkerSpec& m : layout.markers) {
-      if (m.is_tag()) continue;
-      const auto mm = place(m, k);
-      if (!mm) continue;
-      const cv::Point2d c = to_image(*mm, scale);
-      truth[m.id] = c;
-      cv::circle(img, cv::Point(cvRound(c.x * 16), cvRound(c.y * 16)),
-                 cvRound(layout.dot_diameter_mm / 2 * scale * 16), cv::Scalar(25), cv::FILLED,
-                 cv::LINE_AA, 4);
-    }
-    cv::GaussianBlur(img, img, {0, 0}, 0.7);
-    std::map<std::string, cv::Point2d> seen;
-    for (const MarkerObservation& o : tracker.track(img, k, k / 25.0).markers)
-      if (o.valid) seen[o.marker] = o.position;
-    run.truth.push_back(truth);
-    run.seen.push_back(seen);
+    draw_and_track(
+        tracker, layout, img, k, layout.dot_diameter_mm / 2 * scale,
+        [&](const MarkerSpec& m) -> std::optional<cv::Point2d> {
+          const auto mm = place(m, k);
+          if (!mm) return std::nullopt;
+          return to_image(*mm, scale);
+        },
+        run);
   }
   return run;
 }
@@ -83,7 +72,7 @@ std::optional<cv::Point2d> drifting_eye(const MarkerSpec& m, int k) {
 }
 
 TEST(LidReacquire, LostLidFoundAgainWhereItWasLastSeen) {
-  const TrackedRun run = track(drifting_eye, 52);
+  const DrawnRun run = track(drifting_eye, 52);
   for (int k = 47; k < 52; ++k) {
     const auto& seen = run.seen[static_cast<size_t>(k)];
     const auto& truth = run.truth[static_cast<size_t>(k)];
@@ -111,7 +100,7 @@ std::optional<cv::Point2d> rising_lid(const MarkerSpec& m, int k) {
 }
 
 TEST(LidReacquire, LidDotFarAboveItsBandIsLost) {
-  const TrackedRun run = track(rising_lid, 30);
+  const DrawnRun run = track(rising_lid, 30);
   // Frame 4: at its start place; frame 29: 10 mm higher, 16 mm above the corner line (the
   // start: 6 mm).
   EXPECT_TRUE(run.seen[4].count("lid_l_up"));
@@ -130,7 +119,7 @@ std::optional<cv::Point2d> sliding_face(const MarkerSpec& m, int k) {
 
 TEST(PixelScale, LargeDotsFollowedAsSmallOnes) {
   constexpr double kScale = 5;
-  const TrackedRun run = track(sliding_face, 20, kScale);
+  const DrawnRun run = track(sliding_face, 20, kScale);
   for (size_t k = 1; k < run.seen.size(); ++k) {
     EXPECT_EQ(run.seen[k].size(), run.truth[k].size()) << "frame " << k << ": dots lost";
     for (const auto& [id, at] : run.seen[k]) {

@@ -10,14 +10,20 @@
 #include <functional>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "tests/tracking/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
 namespace rostro::tracking {
 namespace {
+
+using testing::draw_and_track;
+using testing::DrawnRun;
+using testing::start_on_drawing;
 
 // Frontal layout millimetres (x right, y down) to pixels, `scale` pixels a millimetre.
 cv::Point2d to_image(cv::Point2d mm, double scale) {
@@ -34,12 +40,7 @@ struct Opening {
 };
 using Drive = std::function<Opening(int k)>;
 
-struct TrackedRun {
-  std::vector<std::map<std::string, cv::Point2d>> truth;  // per frame, every dot drawn
-  std::vector<std::map<std::string, cv::Point2d>> seen;   // per frame, the valid markers
-};
-
-TrackedRun track(const Drive& drive, int frames, double scale) {
+DrawnRun track(const Drive& drive, int frames, double scale) {
   const MarkerLayout layout =
       load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
   auto place = [&](const MarkerSpec& m, const Opening& o) {
@@ -49,11 +50,8 @@ TrackedRun track(const Drive& drive, int frames, double scale) {
     return to_image(mm, scale);
   };
   MarkerTracker tracker(layout);
-  std::map<std::string, cv::Point2d> start;
-  for (const MarkerSpec& m : layout.markers)
-    if (!m.is_tag()) start[m.id] = place(m, drive(0));
-  tracker.set_start_positions(start);
-  TrackedRun run;
+  start_on_drawing(tracker, layout, [&](const MarkerSpec& m) { return place(m, drive(0)); });
+  DrawnRun run;
   for (int k = 0; k < frames; ++k) {
     const Opening o = drive(k);
     cv::Mat img(cvRound(480 * scale / 2.4), cvRound(640 * scale / 2.4), CV_8UC1, cv::Scalar(180));
@@ -67,21 +65,9 @@ TrackedRun track(const Drive& drive, int frames, double scale) {
       cv::ellipse(img, centre, cv::Size(axes.width * 3 / 4, axes.height * 3 / 5), 0, 0, 360,
                   cv::Scalar(55), cv::FILLED, cv::LINE_AA, 4);
     }
-    std::map<std::string, cv::Point2d> truth;
-    for (const MarkerSpec& m : layout.markers) {
-      if (m.is_tag()) continue;
-      const cv::Point2d c = place(m, o);
-      truth[m.id] = c;
-      cv::circle(img, cv::Point(cvRound(c.x * 16), cvRound(c.y * 16)),
-                 cvRound(layout.dot_diameter_mm / 2 * scale * 16), cv::Scalar(25), cv::FILLED,
-                 cv::LINE_AA, 4);
-    }
-    cv::GaussianBlur(img, img, {0, 0}, 0.7);
-    std::map<std::string, cv::Point2d> seen;
-    for (const MarkerObservation& obs : tracker.track(img, k, k / 25.0).markers)
-      if (obs.valid) seen[obs.marker] = obs.position;
-    run.truth.push_back(truth);
-    run.seen.push_back(seen);
+    draw_and_track(
+        tracker, layout, img, k, layout.dot_diameter_mm / 2 * scale,
+        [&](const MarkerSpec& m) { return std::optional(place(m, o)); }, run);
   }
   return run;
 }
@@ -93,7 +79,7 @@ Opening snap_open_and_shut(int k) {
   return {};
 }
 
-void expect_followed(const TrackedRun& run, const std::vector<int>& frames) {
+void expect_followed(const DrawnRun& run, const std::vector<int>& frames) {
   for (int k : frames) {
     const auto& seen = run.seen[static_cast<size_t>(k)];
     const auto& truth = run.truth[static_cast<size_t>(k)];
@@ -105,7 +91,7 @@ void expect_followed(const TrackedRun& run, const std::vector<int>& frames) {
 }
 
 // No marker is ever reported anywhere but on its own dot (lost is better than wrong).
-void expect_never_wrong(const TrackedRun& run) {
+void expect_never_wrong(const DrawnRun& run) {
   for (size_t k = 0; k < run.seen.size(); ++k)
     for (const auto& [id, at] : run.seen[k])
       EXPECT_LT(cv::norm(at - run.truth[k].at(id)), 1.0) << "frame " << k << ": " << id;
@@ -114,7 +100,7 @@ void expect_never_wrong(const TrackedRun& run) {
 TEST(LowerLipJump, FoundAgainTogetherWhenTheMouthSnapsOpenAndShut) {
   for (double scale : {2.4, 4.0}) {  // 640x480, and dots as large as at 1280x720
     SCOPED_TRACE("scale " + std::to_string(scale));
-    const TrackedRun run = track(snap_open_and_shut, 22, scale);
+    const DrawnRun run = track(snap_open_and_shut, 22, scale);
     // Found again at the latest in the frame after each jump, and followed on.
     expect_followed(run, {6, 7, 8, 9, 10, 11, 12, 13, 14, 16, 17, 18, 19, 20, 21});
     expect_never_wrong(run);
