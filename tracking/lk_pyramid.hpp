@@ -8,9 +8,10 @@
 // pixel of every level, which on a 1280x720 face is most of the pyramid's cost. Here the
 // levels are built without derivatives and derivatives() fills the windows around the points
 // about to be followed from this pyramid, with the same Scharr filter and scale as OpenCV's,
-// into buffers kept from frame to frame. as_lk_input() is the interleaved image/derivative
-// layout calcOpticalFlowPyrLK accepts as a ready-made pyramid.
+// into buffers kept from frame to frame, each pixel once per build. as_lk_input() is the
+// interleaved image/derivative layout calcOpticalFlowPyrLK accepts as a ready-made pyramid.
 
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -32,6 +33,9 @@ class LkPyramid {
   std::vector<cv::Mat> images_;       // bordered ROIs, as buildOpticalFlowPyramid gives them
   std::vector<cv::Mat> derivatives_;  // CV_16SC2 (dx, dy) ROIs of zero-bordered buffers
   std::vector<cv::Mat> interleaved_;
+  // Per level, a bit per pixel set where the derivatives are up to date (rows of words()).
+  std::vector<std::vector<uint64_t>> filled_;
+  static size_t words(int width) { return (static_cast<size_t>(width) + 63) / 64; }
 };
 
 }  // namespace rostro::tracking

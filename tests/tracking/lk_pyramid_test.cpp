@@ -23,26 +23,22 @@ cv::Mat textured(int seed, cv::Size size) {
   return out;
 }
 
-TEST(LkPyramid, DerivativesAroundPointsEqualOpenCvs) {
-  const cv::Mat image = textured(1, {203, 151});  // odd sizes: uneven pyramid levels
-  const cv::Size window(13, 13);
+// Compares `sparse`'s derivatives with OpenCV's for `image` in the window LK reads around each
+// of `points`, at every level; returns the number of pixels compared.
+long expect_opencv_derivatives(const cv::Mat& image, const LkPyramid& sparse, cv::Size window,
+                               const std::vector<cv::Point2f>& points) {
   std::vector<cv::Mat> full;
-  const int levels = cv::buildOpticalFlowPyramid(image, full, window, 2, true);
-  ASSERT_EQ(levels, 2);
-  LkPyramid sparse;
-  sparse.build(image, window, 2);
-  // Points in the middle, near every edge and in a corner (reflected borders).
-  const std::vector<cv::Point2f> points = {
-      {100.3f, 70.8f}, {1.2f, 75.0f}, {201.7f, 3.4f}, {0.0f, 0.0f}, {150.5f, 149.9f}};
-  sparse.derivatives(points);
+  const int levels = cv::buildOpticalFlowPyramid(image, full, window, sparse.levels(), true);
   const auto& mine = sparse.as_lk_input();
-  ASSERT_EQ(mine.size(), full.size());
+  EXPECT_EQ(mine.size(), full.size());
+  if (mine.size() != full.size()) return 0;
   long compared = 0;
   for (int l = 0; l <= levels; ++l) {
     const cv::Mat& a = full[static_cast<size_t>(2 * l + 1)];
     const cv::Mat& b = mine[static_cast<size_t>(2 * l + 1)];
-    ASSERT_EQ(a.size(), b.size());
-    ASSERT_EQ(a.type(), b.type());
+    EXPECT_EQ(a.size(), b.size());
+    EXPECT_EQ(a.type(), b.type());
+    if (a.size() != b.size() || a.type() != b.type()) return 0;
     const float scale = 1.0f / static_cast<float>(1 << l);
     for (const cv::Point2f& p : points) {
       const int cx = static_cast<int>(std::floor(p.x * scale)),
@@ -50,13 +46,45 @@ TEST(LkPyramid, DerivativesAroundPointsEqualOpenCvs) {
       for (int y = cy - window.height / 2; y <= cy + window.height / 2 + 1; ++y)
         for (int x = cx - window.width / 2; x <= cx + window.width / 2 + 1; ++x) {
           if (x < 0 || y < 0 || x >= a.cols || y >= a.rows) continue;
-          ASSERT_EQ(a.at<cv::Vec2s>(y, x), b.at<cv::Vec2s>(y, x))
-              << "level " << l << " at " << x << "," << y;
+          if (a.at<cv::Vec2s>(y, x) != b.at<cv::Vec2s>(y, x)) {
+            ADD_FAILURE() << "level " << l << " at " << x << "," << y;
+            return compared;
+          }
           ++compared;
         }
     }
   }
-  EXPECT_GT(compared, 1000);
+  return compared;
+}
+
+TEST(LkPyramid, DerivativesAroundPointsEqualOpenCvs) {
+  const cv::Mat image = textured(1, {203, 151});  // odd sizes: uneven pyramid levels
+  const cv::Size window(13, 13);
+  LkPyramid sparse;
+  sparse.build(image, window, 2);
+  ASSERT_EQ(sparse.levels(), 2);
+  // Points in the middle, near every edge and in a corner (reflected borders).
+  const std::vector<cv::Point2f> points = {
+      {100.3f, 70.8f}, {1.2f, 75.0f}, {201.7f, 3.4f}, {0.0f, 0.0f}, {150.5f, 149.9f}};
+  sparse.derivatives(points);
+  EXPECT_GT(expect_opencv_derivatives(image, sparse, window, points), 1000);
+}
+
+// Pixels already filled are skipped until the next build: windows that overlap the filled ones
+// must still come out whole, and a rebuild from another image must refill everything.
+TEST(LkPyramid, DerivativesStayExactAcrossOverlapsAndRebuilds) {
+  const cv::Mat first = textured(3, {203, 151}), second = textured(4, {203, 151});
+  const cv::Size window(13, 13);
+  const std::vector<cv::Point2f> points = {{60.2f, 50.5f}, {66.9f, 53.1f}, {140.0f, 90.0f}};
+  const std::vector<cv::Point2f> moved = {{61.7f, 49.2f}, {70.4f, 58.8f}, {2.5f, 148.0f}};
+  LkPyramid sparse;
+  sparse.build(first, window, 2);
+  sparse.derivatives(points);
+  sparse.derivatives(moved);  // part already filled, part new
+  EXPECT_GT(expect_opencv_derivatives(first, sparse, window, moved), 1000);
+  sparse.build(second, window, 2);  // same size: the buffers are kept, their contents stale
+  sparse.derivatives(moved);
+  EXPECT_GT(expect_opencv_derivatives(second, sparse, window, moved), 1000);
 }
 
 TEST(LkPyramid, LucasKanadeGivesOpenCvsAnswer) {
