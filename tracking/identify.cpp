@@ -7,6 +7,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "facecore/error.hpp"
+#include "tracking/affine2d.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::tracking {
@@ -26,10 +27,6 @@ cv::Matx23d similarity_from_clouds(const std::vector<cv::Point2d>& from,
   auto [ct, st] = centre_and_spread(to);
   const double k = sf > 0 ? st / sf : 1;
   return {k, 0, ct.x - k * cf.x, 0, k, ct.y - k * cf.y};
-}
-
-cv::Point2d apply(const cv::Matx23d& m, cv::Point2d p) {
-  return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
 }
 
 constexpr double kNoPair = 1e12;

@@ -8,20 +8,14 @@
 #include <opencv2/video/tracking.hpp>
 #include <optional>
 
+#include "tracking/affine2d.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/ink_core.hpp"
 #include "tracking/lk_pyramid.hpp"
+#include "tracking/lower_lip_search.hpp"
 
 namespace rostro::tracking {
 namespace {
-
-cv::Point2d apply(const cv::Matx23d& m, cv::Point2d p) {
-  return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
-}
-
-double scale_of(const cv::Matx23d& m) {
-  return std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
-}
 
 cv::Point2d mean_of(const std::array<cv::Point2d, 4>& c) {
   return (c[0] + c[1] + c[2] + c[3]) * 0.25;
@@ -801,13 +795,10 @@ struct MarkerTracker::Impl {
            offset <= options.lid_reach * std::abs(ref_offset) * face_scale;
   }
 
-  // ---- the lower lip -------------------------------------------------------------------
+  // ---- the lower lip (lower_lip_search.hpp) ---------------------------------------------
 
-  // MPEG-4 8.2, 8.7, 8.8: the outer lower lip's dots; 8.1 and 8.3-8.6: the upper lip's and the
-  // mouth corners'.
   bool at_lower_lip(size_t i) const {
-    const FeaturePointId& fp = states[i].spec->feature_point;
-    return fp.group == 8 && (fp.index == 2 || fp.index == 7 || fp.index == 8);
+    return tracking::at_lower_lip(states[i].spec->feature_point);
   }
   // The lower lip opens with the jaw by up to a spacing in a frame (Xface joy), unlike the
   // upper lip and the corners: its dots are no measure of how theirs should move
@@ -815,152 +806,40 @@ struct MarkerTracker::Impl {
   bool apart_from_lower_lip(size_t i, size_t j) const {
     return options.lower_lip_together && at_lower_lip(j) && !at_lower_lip(i);
   }
-  bool at_upper_lip_or_corner(size_t i) const {
-    const FeaturePointId& fp = states[i].spec->feature_point;
-    return fp.group == 8 && fp.index >= 1 && fp.index <= 6 && !at_lower_lip(i);
-  }
 
-  // The mouth's frame now: the similarity (turn, scale, shift) taking the followed upper-lip and
-  // corner dots from their start positions to their current ones; none with fewer than two.
-  std::optional<cv::Matx23d> mouth_frame() const {
-    std::vector<cv::Point2d> from, to;
-    for (size_t j = 0; j < states.size(); ++j)
-      if (states[j].valid && !states[j].spec->is_tag() && at_upper_lip_or_corner(j))
-        from.push_back(reference[j]), to.push_back(states[j].position);
-    if (from.size() < 2) return std::nullopt;
-    // Least squares over all of them: a robust fit to three of five points took the upper lip's
-    // three alone, squeezed in a smile (a scale 0.1 low: the lower lip placed a third of a
-    // spacing inward at the sides).
-    const double n = static_cast<double>(from.size());
-    cv::Point2d mean_from(0, 0), mean_to(0, 0);
-    for (size_t k = 0; k < from.size(); ++k) mean_from += from[k] / n, mean_to += to[k] / n;
-    double a = 0, b = 0, norm = 0;  // to - mean = (a -b; b a)(from - mean)
-    for (size_t k = 0; k < from.size(); ++k) {
-      const cv::Point2d f = from[k] - mean_from, t = to[k] - mean_to;
-      a += f.x * t.x + f.y * t.y, b += f.x * t.y - f.y * t.x, norm += f.dot(f);
-    }
-    if (!(norm > 0)) return std::nullopt;
-    a /= norm, b /= norm;
-    return cv::Matx23d(a, -b, mean_to.x - (a * mean_from.x - b * mean_from.y),  //
-                       b, a, mean_to.y - (b * mean_from.x + a * mean_from.y));
-  }
-
-  // TrackerOptions::lower_lip_together. The lower lip's dots, lost together when the mouth opens
-  // or shuts within a frame, are found again together: in the mouth's frame (mouth_frame) the
-  // lower lip moves, from its start place, as one piece and chiefly down (opening) or back up,
-  // so a shift shared by its dots (one followed dot's, or one candidate's) must put at least
-  // two of them (followed or found) each on a dot. A lone dark blob (the open mouth's corner,
-  // a gap by the teeth) or a sibling's dot (the triangle then fits nowhere) is not taken.
-  // Returns whether the lower lip was searched so (the single-dot search then skips its dots).
+  // TrackerOptions::lower_lip_together: the lower lip's lost dots found again together
+  // (find_lower_lip). Returns whether the lower lip was searched so (the single-dot search
+  // then skips its dots).
   bool reacquire_lower_lip() {
-    std::vector<size_t> members;
-    bool any_lost = false;
-    for (size_t i = 0; i < states.size(); ++i)
-      if (!states[i].spec->is_tag() && at_lower_lip(i)) {
-        members.push_back(i);
-        any_lost |= !states[i].valid && has_prediction[i];
-      }
-    if (members.size() < 2 || !any_lost) return false;
-    const std::optional<cv::Matx23d> frame = mouth_frame();
-    if (!frame) return false;
-    const cv::Matx23d& m = *frame;
-    const double scale = scale_of(m);
-    const double det = m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0);
-    if (!(scale > 0) || std::abs(det) < 1e-12) return false;
-    // Offsets from a dot's place in the mouth's frame, in start pixels along the start image's
-    // axes (the face upright: +y is down the face).
-    auto to_start = [&](cv::Point2d d) {
-      return cv::Point2d((m(1, 1) * d.x - m(0, 1) * d.y) / det,
-                         (-m(1, 0) * d.x + m(0, 0) * d.y) / det);
-    };
-    auto to_image = [&](cv::Point2d u) {
-      return cv::Point2d(m(0, 0) * u.x + m(0, 1) * u.y, m(1, 0) * u.x + m(1, 1) * u.y);
-    };
-    double unit = std::numeric_limits<double>::max();
-    for (size_t k : members) unit = std::min(unit, spacing[k]);
-    const double side = options.lower_lip_sideways * unit, up = options.lower_lip_up * unit,
-                 down = options.lower_lip_down * unit, tolerance = options.lower_lip_shape * unit;
-
-    struct Candidate {
-      size_t member;
-      Dot dot;
-      cv::Point2d offset;
-    };
-    std::vector<Candidate> candidates;
-    std::vector<cv::Point2d> offsets(states.size());
-    for (size_t k : members) {
-      const cv::Point2d place = apply(m, reference[k]);
-      if (states[k].valid) {
-        offsets[k] = to_start(states[k].position - place);
-        continue;
-      }
-      if (!has_prediction[k]) continue;
-      // The region the lower lip may be in, a strip down the mouth's frame, is searched in
-      // windows a spacing wide: the contrast is measured against the level at a window's rim,
-      // which for a window as large as the strip takes in the open mouth and, under a head turn,
-      // the backdrop beside the chin (the dots' contrast came out at a quarter).
+    LowerLipScene scene;
+    for (size_t i = 0; i < states.size(); ++i) {
+      const MarkerState& s = states[i];
+      if (s.spec->is_tag()) continue;
+      if (at_lower_lip(i))
+        scene.lower_lip.push_back(
+            {i, reference[i], spacing[i], s.valid, s.position, !s.valid && has_prediction[i]});
+      if (!s.valid) continue;
+      if (at_upper_lip_or_corner(s.spec->feature_point))
+        scene.upper_start.push_back(reference[i]), scene.upper_now.push_back(s.position);
+      scene.followed.push_back({i, s.position, spacing[i]});
+    }
+    LowerLipSearch search;
+    search.up = options.lower_lip_up, search.down = options.lower_lip_down;
+    search.sideways = options.lower_lip_sideways, search.shape = options.lower_lip_shape;
+    search.dots_near = [this](size_t k, cv::Point2d centre, double radius) {
+      ensure_gray_around(centre, radius);
       const double least = options.min_contrast_ratio * reference_contrast[k];
-      std::vector<Dot> found;
-      for (double along = -up + side; along < down + side; along += side) {
-        const cv::Point2d middle = place + to_image({0, std::min(along, down)});
-        const double radius = side * std::sqrt(2.0) * scale;
-        ensure_gray_around(middle, radius);
-        for (const Dot& d : dots_near(gray, middle, radius, dot_options(k), 4, least)) {
-          bool again = false;
-          for (const Dot& f : found) again |= cv::norm(f.center - d.center) < 0.25 * unit * scale;
-          if (!again) found.push_back(d);
-        }
-      }
-      for (const Dot& d : found) {
-        const cv::Point2d u = to_start(d.center - place);
-        if (std::abs(u.x) > side || u.y < -up || u.y > down || !dot_passes(k, d, false)) continue;
-        bool taken = false;  // a followed marker's own dot
-        for (size_t j = 0; j < states.size() && !taken; ++j)
-          taken = j != k && states[j].valid && !states[j].spec->is_tag() &&
-                  cv::norm(states[j].position - d.center) < 0.5 * spacing[j] * scale;
-        if (!taken) candidates.push_back({k, d, u});
-      }
-    }
-
-    // Each followed dot's offset and each candidate's is a guess at the shared shift.
-    std::vector<cv::Point2d> shifts;
-    for (size_t k : members)
-      if (states[k].valid) shifts.push_back(offsets[k]);
-    for (const Candidate& c : candidates) shifts.push_back(c.offset);
-    int best_count = 0;
-    double best_residual = 0;
-    std::vector<const Candidate*> best;
-    for (const cv::Point2d& shift : shifts) {
-      int count = 0;
-      double residual = 0;
-      std::vector<const Candidate*> picks;
-      for (size_t k : members) {
-        if (states[k].valid) {
-          const double r = cv::norm(offsets[k] - shift);
-          if (r <= tolerance) ++count, residual += r;
-          continue;
-        }
-        const Candidate* pick = nullptr;
-        double nearest = tolerance;
-        for (const Candidate& c : candidates)
-          if (c.member == k && cv::norm(c.offset - shift) <= nearest)
-            pick = &c, nearest = cv::norm(c.offset - shift);
-        if (pick) ++count, residual += nearest, picks.push_back(pick);
-      }
-      if (picks.empty() || count < 2) continue;
-      bool apart = true;  // two members on one dot: not the lower lip
-      for (size_t a = 0; a < picks.size(); ++a)
-        for (size_t b = a + 1; b < picks.size(); ++b)
-          apart &= cv::norm(picks[a]->dot.center - picks[b]->dot.center) >= 0.5 * unit * scale;
-      if (apart && (count > best_count || (count == best_count && residual < best_residual)))
-        best_count = count, best_residual = residual, best = picks;
-    }
-    for (const Candidate* c : best) {
-      MarkerState& s = states[c->member];
+      return dots_near(gray, centre, radius, dot_options(k), 4, least);
+    };
+    search.passes = [this](size_t k, const Dot& d) { return dot_passes(k, d, false); };
+    const std::optional<std::vector<LowerLipFound>> found = find_lower_lip(scene, search);
+    if (!found) return false;
+    for (const LowerLipFound& f : *found) {
+      MarkerState& s = states[f.marker];
       s.valid = true;
-      s.position = c->dot.center;
-      recent_diameter[c->member] = c->dot.diameter;
-      s.quality = 0.9 * std::clamp(c->dot.contrast / reference_contrast[c->member], 0.0, 1.0);
+      s.position = f.dot.center;
+      recent_diameter[f.marker] = f.dot.diameter;
+      s.quality = 0.9 * std::clamp(f.dot.contrast / reference_contrast[f.marker], 0.0, 1.0);
     }
     return true;
   }

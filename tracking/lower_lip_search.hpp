@@ -1,0 +1,82 @@
+#pragma once
+// The lower lip's dots found again together (TrackerOptions::lower_lip_together), internal to
+// the tracking library: MarkerTracker hands over the mouth's dots and two callbacks (finding
+// dots in a window, checking one found) and takes back the dots found.
+//
+// The lower lip's dots, lost together when the mouth opens or shuts within a frame, are found
+// again together: in the mouth's frame (a similarity taking the followed upper-lip and corner
+// dots from their start positions to their current ones) the lower lip moves, from its start
+// place, as one piece and chiefly down (opening) or back up, so a shift shared by its dots (one
+// followed dot's, or one candidate's) must put at least two of them (followed or found) each on
+// a dot. A lone dark blob (the open mouth's corner, a gap by the teeth) or a sibling's dot (the
+// triangle then fits nowhere) is not taken.
+
+#include <cstddef>
+#include <functional>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
+
+#include "facecore/feature_point.hpp"
+#include "tracking/dot_detector.hpp"
+
+namespace rostro::tracking {
+
+// MPEG-4 8.2, 8.7, 8.8: the outer lower lip's dots.
+bool at_lower_lip(const FeaturePointId& fp);
+// MPEG-4 8.1 and 8.3-8.6: the upper lip's and the mouth corners' dots.
+bool at_upper_lip_or_corner(const FeaturePointId& fp);
+
+// One of the lower lip's dots (not a tag) as the tracker has it this frame.
+struct LowerLipDot {
+  std::size_t marker = 0;  // the tracker's index, handed back to the callbacks and in the result
+  cv::Point2d start;       // where it was at the start of tracking
+  double spacing = 0;      // nearest other marker at the start, pixels
+  bool followed = false;   // valid this frame
+  cv::Point2d now;         // where it is, when followed
+  bool predicted = false;  // lost and given a place to look for it (searched only then)
+};
+
+// A dot (not a tag) followed this frame: a dot found on one is its, not the lower lip's.
+struct FollowedDot {
+  std::size_t marker = 0;
+  cv::Point2d now;
+  double spacing = 0;  // nearest other marker at the start, pixels
+};
+
+struct LowerLipScene {
+  std::vector<LowerLipDot> lower_lip;  // the tracker's order
+  // The followed upper-lip and corner dots (at_upper_lip_or_corner), the tracker's order.
+  std::vector<cv::Point2d> upper_start, upper_now;
+  std::vector<FollowedDot> followed;  // every followed dot
+};
+
+struct LowerLipSearch {
+  // TrackerOptions::lower_lip_up, _down, _sideways, _shape: fractions of the lower lip's spacing.
+  double up = 0.5, down = 2.5, sideways = 0.6, shape = 0.4;
+  // Every dot within `radius` of `centre` that may be lower-lip dot `marker` (its dot options,
+  // its least contrast), nearest first.
+  std::function<std::vector<Dot>(std::size_t marker, cv::Point2d centre, double radius)> dots_near;
+  // Whether `dot`, found again, passes `marker`'s checks (size, contrast).
+  std::function<bool(std::size_t marker, const Dot& dot)> passes;
+};
+
+struct LowerLipFound {
+  std::size_t marker = 0;
+  Dot dot;
+};
+
+// The mouth's frame now: the similarity (turn, scale, shift) taking the followed upper-lip and
+// corner dots from their start positions `from` to their current ones `to`; none with fewer
+// than two.
+std::optional<cv::Matx23d> mouth_frame(const std::vector<cv::Point2d>& from,
+                                       const std::vector<cv::Point2d>& to);
+
+// The lost lower-lip dots found again together (see above; empty when no shift fits), or none
+// when the lower lip was not searched so: fewer than two lower-lip dots, none of them lost and
+// predicted, or no mouth frame. The tracker's single-dot search skips the lower lip's dots
+// when it was searched.
+std::optional<std::vector<LowerLipFound>> find_lower_lip(const LowerLipScene& scene,
+                                                         const LowerLipSearch& search);
+
+}  // namespace rostro::tracking
