@@ -341,6 +341,11 @@ struct MarkerTracker::Impl {
   bool is_inner_brow(size_t i) const {
     return at_brow(i) && states[i].spec->feature_point.index <= 2;
   }
+  // MPEG-4 4.3, 4.4: the mid-brow dots, on the eyebrow.
+  bool is_mid_brow(size_t i) const {
+    const int index = states[i].spec->feature_point.index;
+    return at_brow(i) && (index == 3 || index == 4);
+  }
   // A brow dot's blob merged with the eyebrow: on the rendered head a lone inner brow dot is
   // measured at 0.9 of its contrast (the eyebrow beside it merges at 0.8) and is at most 1.5
   // long and at least 0.68 round there; merged with the eyebrow it comes out at 0.8, or at 0.9
@@ -350,7 +355,8 @@ struct MarkerTracker::Impl {
     return d.share > 0.5 && (d.share < kLoneShare - 1e-9 || d.elongation > kMostElongation ||
                              d.roundness < kLeastRoundness);
   }
-  // How dot i is measured: the edge fit at the eyes (TrackerOptions::edge_fit_elsewhere), but
+  // How dot i is measured: the edge fit at the eyes and the mid brows
+  // (TrackerOptions::edge_fit_elsewhere, edge_fit_mid_brows), but
   // at the inner eye corners the raised share (TrackerOptions::inner_corners_raise_share) and
   // the centroid. The raised share not at the other eye dots: on the lid dots the raised share
   // would take two lid dots merged in a blink (not round at half, round enough higher up, where 0.4
@@ -359,7 +365,9 @@ struct MarkerTracker::Impl {
   DotOptions centroid_dots, inner_corner_dots, inner_corner_dots_large;
   const DotOptions& dot_options(size_t i) const {
     if (is_inner_corner(i)) return large_dots ? inner_corner_dots_large : inner_corner_dots;
-    return at_eye(i) || options.edge_fit_elsewhere ? options.dots : centroid_dots;
+    const bool edge_fit =
+        at_eye(i) || options.edge_fit_elsewhere || (options.edge_fit_mid_brows && is_mid_brow(i));
+    return edge_fit ? options.dots : centroid_dots;
   }
   // MPEG-4 3.x: the eye corners' indices.
   static constexpr int kRightInnerCorner = 8, kLeftInnerCorner = 11, kLeftOuterCorner = 7,

@@ -52,6 +52,11 @@ struct TrackerOptions {
   // (false), as the edge fit moved the inner brow dots at 640x480 (5 px dots against the brow's
   // fold) and flipped the identity of the mouth clip's dots.
   bool edge_fit_elsewhere = false;
+  // The edge-fitted centre for the mid-brow dots (4.3, 4.4) too. They sit on the eyebrow, a
+  // band lighter than the ink that the brow's raise moves against the dot: the centroid was
+  // pulled toward the band's larger side (Xface fear at 640x480: 0.3 px down, spread 0.1 px;
+  // edge-fitted 0.1 px and 0.03; raise_m_eyebrow 5.2-5.8 -> 2.1 % of range).
+  bool edge_fit_mid_brows = true;
   // The inner eye-corner dots (3.8, 3.11) sit where the eye slit's corner runs out in a thin
   // dark line. At 1280x720 the line joins the dot's blob at half its contrast and the blob
   // fails the roundness check; DotOptions::raise_share_for_roundness measures it higher up
