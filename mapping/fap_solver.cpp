@@ -12,6 +12,7 @@
 
 #include "facecore/error.hpp"
 #include "facecore/fap_table.hpp"
+#include "mapping/hierarchy.hpp"
 
 namespace rostro::mapping {
 namespace {
@@ -166,6 +167,17 @@ class PriorResiduals : public ceres::CostFunction {
 // value): a move of its marker by p pixels costs as a reprojection error of kHoldWeight x p.
 // Fixed, not a multiple of the weak prior, so weakening the prior leaves the pins as firm.
 constexpr double kHoldWeight = 50.0;
+// A marker measures a FAP when the FAP moves it at least this share as far as the marker it
+// moves most. The default head's upper-lid region reaches the inner eye corner (a quarter of
+// the lid's motion): with the lid dot lost (merged with the pupil as the lid lowers in a
+// smile) the corner alone set close_t_eyelid, and a tenth of a pixel of the corner's error
+// was 20-30 IRISD (closed loop, Xface joy at 640x480: 7.6-8.7 % of range). Such a FAP is left
+// to the hierarchy's mirror when its left/right twin is measured and within kTwinAgreementPx
+// of it (moving the FAP's own point), and reported as fitted otherwise: one eye closing alone
+// (a wink, a blink's lids lost while merged) is far from its twin, and the corner then reads
+// it well enough (range of motion: close_t_eyelid 0.4-0.7 % of a 498 IRISD range).
+constexpr double kMeasuringShare = 0.5;
+constexpr double kTwinAgreementPx = 1.0;
 
 }  // namespace
 
@@ -196,6 +208,10 @@ struct FapSolver::Impl {
   // cold start).
   std::vector<double> pose_target, pose_gain;
   std::vector<std::vector<std::size_t>> markers_of_fap;  // fitted FAP -> markers moving it
+  // Fitted FAP -> the markers that measure it: those it moves at least kMeasuringShare as far as
+  // the marker it moves most (its own feature point's).
+  std::vector<std::vector<std::size_t>> measured_by;
+  std::vector<double> px_per_unit;  // per fitted FAP: pixels per unit at its most moved marker
   double neutral_pose[6] = {0, 0, 0, 0, 0, 0};
   double last_pose[6] = {0, 0, 0, 0, 0, 0};      // pose of the frame before the previous one
   double pose_velocity[6] = {0, 0, 0, 0, 0, 0};  // per frame, smoothed (pose prior)
@@ -278,7 +294,7 @@ struct FapSolver::Impl {
 
     // Pixels per FAP unit at the neutral depth, for the prior's weight.
     const double depth = std::max(1.0, neutral_cv.translation[2]);
-    std::vector<double> px_per_unit(fap_count(), 0.0);
+    px_per_unit.assign(fap_count(), 0.0);
     const int n = static_cast<int>(x.size());
     problem.AddParameterBlock(x.data(), n);
     for (std::size_t i = 0; i < model.markers.size(); ++i) {
@@ -291,6 +307,13 @@ struct FapSolver::Impl {
       costs.emplace_back(new MarkerResidual(&observations[i], m, fap_slot, &k, n));
       problem.AddResidualBlock(costs.back().get(), loss.get(), x.data());
     }
+    measured_by.resize(fap_count());
+    for (std::size_t i = 0; i < model.markers.size(); ++i)
+      for (const FapStep& s : model.markers[i].faps) {
+        const auto slot = static_cast<std::size_t>(fap_slot[static_cast<std::size_t>(s.fap)]);
+        if (s.step.norm() * cam.fx / depth >= kMeasuringShare * px_per_unit[slot])
+          measured_by[slot].push_back(i);
+      }
     if (options.pose_prior_weight > 0) {
       // Pixels per radian of rotation (the markers' RMS distance from their centroid as the
       // lever) and per millimetre of translation across / along the optical axis.
@@ -508,6 +531,17 @@ struct FapSolver::Impl {
     std::copy(now, now + 6, last_pose);
   }
 
+  // Whether FAP slot s's left/right twin is measured this frame and fitted within
+  // kTwinAgreementPx of it (see kMeasuringShare).
+  bool near_measured_twin(std::size_t s, const std::vector<bool>& measured) const {
+    const std::optional<int> twin = mirror_fap(model.faps[s]);
+    if (!twin) return false;
+    const int t = fap_slot[static_cast<std::size_t>(*twin)];
+    if (t < 0 || !measured[static_cast<std::size_t>(t)]) return false;
+    const double apart = std::abs(x[6 + s] - x[6 + static_cast<std::size_t>(t)]);
+    return apart * px_per_unit[s] <= kTwinAgreementPx;
+  }
+
   FitResult fit(const tracking::TrackedFrame& frame) {
     FitResult result;
     result.faps.index = frame.frame;
@@ -533,10 +567,13 @@ struct FapSolver::Impl {
     }
 
     // A FAP no valid marker sees keeps its previous value (the prior is its only residual)
-    // and is not reported.
-    std::vector<bool> seen(fap_count(), false);
-    for (std::size_t s = 0; s < fap_count(); ++s)
+    // and is not reported; nor is one seen only through a marker it barely moves (see
+    // kMeasuringShare), which the fit still moves to explain that marker.
+    std::vector<bool> seen(fap_count(), false), measured(fap_count(), false);
+    for (std::size_t s = 0; s < fap_count(); ++s) {
       for (std::size_t i : markers_of_fap[s]) seen[s] = seen[s] || observations[i].active;
+      for (std::size_t i : measured_by[s]) measured[s] = measured[s] || observations[i].active;
+    }
     // The pose prior's target: the previous pose moved on by the smoothed velocity.
     if (!pose_target.empty()) {
       for (std::size_t i = 0; i < 6; ++i) pose_target[i] = x[i] + pose_velocity[i];
@@ -619,6 +656,8 @@ struct FapSolver::Impl {
     }
     ++fitted_in_a_row;
     result.pose = current_pose();
+    for (std::size_t s = 0; s < fap_count(); ++s)
+      if (seen[s] && !measured[s] && near_measured_twin(s, measured)) seen[s] = false;
     for (std::size_t s = 0; s < fap_count(); ++s)
       if (seen[s]) {
         // A FAP fitted below 0 by SolverOptions::lower_bounds is reported on its bound.
