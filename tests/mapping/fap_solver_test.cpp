@@ -5,6 +5,7 @@
 
 #include "calib/actor_calibration.hpp"
 #include "mapping/fap_mapper.hpp"
+#include "tests/mapping/model_projection.hpp"
 #include "tests/mapping/synthetic_face.hpp"
 
 namespace rostro::mapping {
@@ -332,19 +333,12 @@ TEST(FapSolver, HiddenChinHoldsDepressChinSoTheJawIsRead) {
   // Frames rendered from the profile's own model: the fit's only unknown is what it holds.
   auto frame_of = [&](const std::map<int, double>& faps, const tracking::HeadPose& pose,
                       long index) {
-    cv::Matx33d R;
-    cv::Rodrigues(pose.rotation, R);
     tracking::TrackedFrame f;
     f.frame = index;
-    for (const ModelMarker& m : model.markers) {
-      Eigen::Vector3d x = m.neutral;
-      for (const FapStep& s : m.faps)
-        if (auto v = faps.find(s.fap); v != faps.end()) x += v->second * s.step;
-      const cv::Vec3d c = R * cv::Vec3d(x.x(), x.y(), x.z()) + pose.translation;
-      const cv::Point2d px(actor.camera.fx * c[0] / c[2] + actor.camera.cx,
-                           actor.camera.fy * c[1] / c[2] + actor.camera.cy);
-      f.markers.push_back({m.marker, m.feature_point, px, m.marker != "chin", 1.0});
-    }
+    for (const ModelMarker& m : model.markers)
+      f.markers.push_back({m.marker, m.feature_point,
+                           test::project_model_marker(m, faps, pose, actor.camera),
+                           m.marker != "chin", 1.0});
     return f;
   };
   auto worst_jaw_error = [&](const SolverOptions& options) {

@@ -12,6 +12,7 @@
 #include "mapping/fap_solver.hpp"
 #include "mapping/hierarchy.hpp"
 #include "mapping/marker_model.hpp"
+#include "tests/mapping/model_projection.hpp"
 #include "tests/mapping/synthetic_face.hpp"
 
 namespace rostro::mapping {
@@ -34,16 +35,11 @@ class LostLid : public ::testing::Test {
   // A frame from the profile's own model, the left upper lid hidden from frame 10 on and the
   // left inner corner measured 0.15 px low (its tracked error on the rendered head is 0.05-0.3 px).
   tracking::TrackedFrame frame_of(double left, double right, long index) const {
-    cv::Matx33d R;
-    cv::Rodrigues(neutral.rotation, R);
     tracking::TrackedFrame f;
     f.frame = index;
     for (const ModelMarker& m : model.markers) {
-      Eigen::Vector3d x = m.neutral;
-      for (const FapStep& s : m.faps) x += (s.fap == 19 ? left : s.fap == 20 ? right : 0) * s.step;
-      const cv::Vec3d c = R * cv::Vec3d(x.x(), x.y(), x.z()) + neutral.translation;
-      cv::Point2d px(actor.camera.fx * c[0] / c[2] + actor.camera.cx,
-                     actor.camera.fy * c[1] / c[2] + actor.camera.cy);
+      cv::Point2d px =
+          test::project_model_marker(m, {{19, left}, {20, right}}, neutral, actor.camera);
       if (m.marker == "eye_l_in") px.y += 0.15;
       const bool hidden = m.marker == "lid_l_up" && index >= 10;
       f.markers.push_back({m.marker, m.feature_point, px, !hidden, 1.0});
