@@ -540,6 +540,74 @@ std::vector<Dot> dots_near(const cv::Mat& gray, cv::Point2d guess, double radius
 
 namespace {
 
+// The centre m about which the dot's contrast `c` best overlaps its own point reflection
+// (DotOptions::symmetric_centre): the largest S(m), the sum over the pixels p within `radius` of
+// m of min(w(p), w(2m - p)), w the contrast above `floor` and at most `top` on the dot's own
+// pixels (`own_at`: its blob and rim, as for the centroid) and 0 elsewhere. A dot is symmetric
+// about its centre, where S is its whole weight; a feature touching it from one side reflects
+// onto what lies opposite (skin) and adds next to nothing. (Without the blob, a long line,
+// symmetric about any point on it, drew m out along it: a small dot seen edge-on under a head
+// turn went 2.4 px into the eye.) On the half-pixel grid 2m - p is a pixel, so S is read
+// without interpolation; m is hill-climbed there from `start`, then placed between grid points
+// (below). nullopt when the peak lies more than `reach` pixels from `start`.
+template <typename Own>
+std::optional<cv::Point2d> symmetric_centre(const cv::Mat& c, cv::Point2d start, double radius,
+                                            float floor, float top, double reach, Own own_at) {
+  const double r2 = radius * radius;
+  auto weight = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= c.cols || y >= c.rows || !own_at(x, y)) return 0.0f;
+    return std::clamp(c.at<float>(y, x) - floor, 0.0f, top - floor);
+  };
+  // S at m = (i / 2, j / 2).
+  auto overlap = [&](int i, int j) {
+    const double mx = 0.5 * i, my = 0.5 * j;
+    double sum = 0;
+    for (int y = static_cast<int>(std::ceil(my - radius)); y <= static_cast<int>(my + radius); ++y)
+      for (int x = static_cast<int>(std::ceil(mx - radius)); x <= static_cast<int>(mx + radius);
+           ++x) {
+        const double dx = x - mx, dy = y - my;
+        if (dx * dx + dy * dy <= r2) sum += std::min(weight(x, y), weight(i - x, j - y));
+      }
+    return sum;
+  };
+  const int i0 = static_cast<int>(std::lround(2 * start.x)),
+            j0 = static_cast<int>(std::lround(2 * start.y));
+  const int most = static_cast<int>(std::ceil(2 * reach));
+  // S on a small square of grid points about the start, filled as the climb reaches them.
+  const int side = 2 * most + 5;
+  thread_local std::vector<double> grid;
+  grid.assign(static_cast<size_t>(side * side), -1);
+  auto at = [&](int i, int j) {
+    double& v = grid[static_cast<size_t>((j - j0 + most + 2) * side + (i - i0 + most + 2))];
+    if (v < 0) v = overlap(i, j);
+    return v;
+  };
+  int bi = i0, bj = j0;
+  for (int step = 0; step <= 2 * most; ++step) {
+    int ni = bi, nj = bj;
+    double best = at(bi, bj);
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di)
+        if ((di || dj) && at(bi + di, bj + dj) > best)
+          best = at(bi + di, bj + dj), ni = bi + di, nj = bj + dj;
+    if (ni == bi && nj == bj) break;
+    if (std::abs(ni - i0) > most || std::abs(nj - j0) > most) return std::nullopt;
+    bi = ni, bj = nj;
+  }
+  // Between grid points, each axis alone: where the line through the two samples left of the
+  // peak meets the line through the two right of it. Their slopes differ where a feature lies
+  // on one side (the line's rows gain as m moves toward it while the rest lose), and a V of
+  // equal slopes through the peak and its neighbours would lean toward the feature.
+  auto vertex = [](double m2, double m1, double p1, double p2) {
+    const double left = m1 - m2, right = p1 - p2;  // rise toward the peak on each side
+    if (!(left > 0) || !(right > 0)) return 0.0;
+    return 0.5 * std::clamp((p1 - m1 + right - left) / (left + right), -0.5, 0.5);
+  };
+  return cv::Point2d(
+      0.5 * bi + vertex(at(bi - 2, bj), at(bi - 1, bj), at(bi + 1, bj), at(bi + 2, bj)),
+      0.5 * bj + vertex(at(bi, bj - 2), at(bi, bj - 1), at(bi, bj + 1), at(bi, bj + 2)));
+}
+
 std::optional<Dot> measure_peak(const cv::Mat& c, cv::Point peak, float peak_value,
                                 const cv::Rect& window, const DotOptions& options) {
   // Its extent: the pixels connected to the peak above a share of the peak. Half is the
@@ -634,6 +702,13 @@ std::optional<Dot> measure_peak(const cv::Mat& c, cv::Point peak, float peak_val
     }
     if (sw <= 0) return std::nullopt;
     centre = {sx / sw, sy / sw};
+  }
+  if (options.symmetric_centre) {
+    // From the centroid, which a feature on one side pulls by well under the dot's radius; over
+    // the dot's own pixels as the centroid, on a disc a little wider (it only bounds the sum).
+    if (auto m = symmetric_centre(c, centre, disc + 0.5, floor, peak_value,
+                                  std::max(1.0, diameter / 4), own_at))
+      centre = *m;
   }
   // What lies just outside the dot: a dot on skin is ringed by skin, the pupil by the iris
   // (dark), so the ring's median contrast tells a pupil from a dot of the same size.

@@ -69,11 +69,13 @@ struct MarkerTracker::Impl {
     centroid_dots.edge_fit = false;
     inner_corner_dots = options.dots;
     inner_corner_dots.raise_share_for_roundness |= options.inner_corners_raise_share;
-    // The inner corners' centre from the centroid of the raised share's blob: the edge fit's
+    // The inner corners' centre from the raised share's blob (its centroid, then the symmetric
+    // centre, TrackerOptions::inner_corners_symmetric_centre), not the edge fit: the edge fit's
     // rays there run along the slit's corner line and the lashes, and its centre moved with
     // the expression (Xface fear at 1280x720: 0.32-0.41 px frame-to-frame spread in x against
     // 0.14-0.18 for the centroid, which went into the head pose: pitch 5.8 -> 2.7 % of range).
     inner_corner_dots.edge_fit = false;
+    inner_corner_dots.symmetric_centre = options.inner_corners_symmetric_centre;
     inner_corner_dots_large = inner_corner_dots;
     inner_corner_dots_large.max_elongation =
         std::max(options.dots.max_elongation, options.inner_corner_max_elongation_large);
@@ -358,10 +360,11 @@ struct MarkerTracker::Impl {
   // How dot i is measured: the edge fit at the eyes and the mid brows
   // (TrackerOptions::edge_fit_elsewhere, edge_fit_mid_brows), but
   // at the inner eye corners the raised share (TrackerOptions::inner_corners_raise_share) and
-  // the centroid. The raised share not at the other eye dots: on the lid dots the raised share
-  // would take two lid dots merged in a blink (not round at half, round enough higher up, where 0.4
-  // passes); on the outer corners at 640x480 it found dots lost before at 0.6 with the line still
-  // on, and the edge fit then put 1 in 8 of them 1-1.6 px off (Xface fear: head yaw 9.4 -> 12.7 %).
+  // the symmetric centre (inner_corners_symmetric_centre). The raised share not at the other eye
+  // dots: on the lid dots the raised share would take two lid dots merged in a blink (not round at
+  // half, round enough higher up, where 0.4 passes); on the outer corners at 640x480 it found dots
+  // lost before at 0.6 with the line still on, and the edge fit then put 1 in 8 of them 1-1.6 px
+  // off (Xface fear: head yaw 9.4 -> 12.7 %).
   DotOptions centroid_dots, inner_corner_dots, inner_corner_dots_large;
   const DotOptions& dot_options(size_t i) const {
     if (is_inner_corner(i)) return large_dots ? inner_corner_dots_large : inner_corner_dots;

@@ -61,9 +61,15 @@ struct TrackerOptions {
   // dark line. At 1280x720 the line joins the dot's blob at half its contrast and the blob
   // fails the roundness check; DotOptions::raise_share_for_roundness measures it higher up
   // instead (without it the inner corners were lost in 204 of 225 frames of the closed loop's
-  // still head at 1280x720). They are centred by the centroid of that blob: the edge fit's
-  // rays there run along the line and the lashes.
+  // still head at 1280x720). They are not edge-fitted: the edge fit's rays there run along the
+  // line and the lashes (centre: inner_corners_symmetric_centre).
   bool inner_corners_raise_share = true;
+  // The inner corners' centre where the blob best overlaps its own point reflection
+  // (DotOptions::symmetric_centre) rather than the blob's centroid. The slit's corner, which
+  // grows as the eye widens, pulled the centroid toward the eye: the closed loop's Xface fear
+  // against the still head, 0.30 px further in x at 640x480 and 0.45 at 1280x720 (the head's
+  // yaw took it up: 8.5 % of range at 640x480); symmetric, 0.02-0.04 px.
+  bool inner_corners_symmetric_centre = true;
   // The longest the inner eye-corner dots' blob may be (long over short axis) when the dots
   // are at least reference_dot_px wide; smaller dots keep DotOptions::max_elongation (3). The
   // inner corner sits in the hollow beside the nose, seen steeply when the head turns: at
