@@ -554,9 +554,24 @@ template <typename Own>
 std::optional<cv::Point2d> symmetric_centre(const cv::Mat& c, cv::Point2d start, double radius,
                                             float floor, float top, double reach, Own own_at) {
   const double r2 = radius * radius;
+  // The weights of every pixel the search can read, once: a square about the start reaching
+  // the disc's radius past the farthest centre tried (zero outside the image and the dot).
+  const int cx = static_cast<int>(std::lround(start.x)),
+            cy = static_cast<int>(std::lround(start.y));
+  const int half = static_cast<int>(std::ceil(radius + reach)) + 3, width = 2 * half + 1;
+  thread_local std::vector<float> weights;
+  weights.assign(static_cast<size_t>(width * width), 0.0f);
+  for (int y = std::max(0, cy - half); y <= std::min(c.rows - 1, cy + half); ++y) {
+    const float* row = c.ptr<float>(y);
+    for (int x = std::max(0, cx - half); x <= std::min(c.cols - 1, cx + half); ++x)
+      if (own_at(x, y))
+        weights[static_cast<size_t>((y - cy + half) * width + (x - cx + half))] =
+            std::clamp(row[x] - floor, 0.0f, top - floor);
+  }
   auto weight = [&](int x, int y) {
-    if (x < 0 || y < 0 || x >= c.cols || y >= c.rows || !own_at(x, y)) return 0.0f;
-    return std::clamp(c.at<float>(y, x) - floor, 0.0f, top - floor);
+    const int u = x - cx + half, v = y - cy + half;
+    if (u < 0 || v < 0 || u >= width || v >= width) return 0.0f;
+    return weights[static_cast<size_t>(v * width + u)];
   };
   // S at m = (i / 2, j / 2).
   auto overlap = [&](int i, int j) {
