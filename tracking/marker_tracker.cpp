@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <optional>
@@ -57,7 +58,8 @@ struct MarkerTracker::Impl {
       : layout(std::move(l)),
         options(std::move(o)),
         full_detector(with_layout_families(options.tags)),
-        window_detector(window_options(with_layout_families(options.tags))) {
+        window_detector(window_options(with_layout_families(options.tags))),
+        threads(options.threads > 0 ? options.threads : std::max(1, cv::getNumberOfCPUs())) {
     for (const MarkerSpec& m : layout.markers) {
       MarkerState s;
       s.spec = &m;
@@ -79,6 +81,29 @@ struct MarkerTracker::Impl {
     inner_corner_dots_large = inner_corner_dots;
     inner_corner_dots_large.max_elongation =
         std::max(options.dots.max_elongation, options.inner_corner_max_elongation_large);
+  }
+
+  // TrackerOptions::threads, 0 resolved to the machine's cores.
+  const int threads;
+
+  // Runs job(0) .. job(count - 1), independent of one another, on up to `threads` threads
+  // (OpenCV's pool, which also caps them: cv::setNumThreads), and returns when all are done.
+  // Stripe t takes jobs t, t + stripes, t + 2 stripes, ...: neighbouring jobs (one face
+  // region's dots, the eyes' dearer ones together) go to different threads.
+  template <typename Job>
+  void for_each_in_parallel(size_t count, const Job& job) const {
+    const auto stripes = static_cast<size_t>(std::min<long>(threads, static_cast<long>(count)));
+    if (stripes <= 1) {
+      for (size_t i = 0; i < count; ++i) job(i);
+      return;
+    }
+    cv::parallel_for_(
+        cv::Range(0, static_cast<int>(stripes)),
+        [&](const cv::Range& r) {
+          for (auto t = static_cast<size_t>(r.start); t < static_cast<size_t>(r.end); ++t)
+            for (size_t i = t; i < count; i += stripes) job(i);
+        },
+        static_cast<double>(stripes));
   }
 
   AprilTagOptions with_layout_families(AprilTagOptions o) const {
@@ -446,6 +471,11 @@ struct MarkerTracker::Impl {
     std::vector<bool> tag_corners_held(states.size(), true);
     std::vector<bool> was_valid(states.size());
     for (size_t i = 0; i < states.size(); ++i) was_valid[i] = states[i].valid;
+    // The dots that made LK's round trip are measured apart from one another (each reads only
+    // the grey image around it) on TrackerOptions::threads threads, then judged and applied
+    // in their order: the result does not depend on the thread count. Their grey windows are
+    // filled first, serially, as the conversion writes to the one grey image.
+    std::vector<size_t> to_measure;  // point indices
     for (size_t k = 0; k < before.size(); ++k) {
       MarkerState& s = states[owner[k]];
       if (s.spec->is_tag()) {
@@ -456,11 +486,20 @@ struct MarkerTracker::Impl {
         ++c;
         continue;
       }
-      const double fb = cv::norm(back[k] - before[k]);
       s.valid = false;
-      if (!status[k] || !status_back[k] || fb > max_fb_error()) continue;
+      if (!status[k] || !status_back[k] || cv::norm(back[k] - before[k]) > max_fb_error()) continue;
       ensure_gray_around(cv::Point2d(after[k]), max_snap());
-      auto d = refine_dot(gray, cv::Point2d(after[k]), max_snap(), dot_options(owner[k]));
+      to_measure.push_back(k);
+    }
+    std::vector<std::optional<Dot>> measured(before.size());
+    for_each_in_parallel(to_measure.size(), [&](size_t m) {
+      const size_t k = to_measure[m];
+      measured[k] = refine_dot(gray, cv::Point2d(after[k]), max_snap(), dot_options(owner[k]));
+    });
+    for (const size_t k : to_measure) {
+      MarkerState& s = states[owner[k]];
+      const double fb = cv::norm(back[k] - before[k]);
+      const std::optional<Dot>& d = measured[k];
       if (!d || cv::norm(d->center - cv::Point2d(after[k])) > max_snap() ||
           !dot_passes(owner[k], *d, true))
         continue;

@@ -160,6 +160,10 @@ struct TrackerOptions {
   // again on the merged blob was held 1.7 px off. 0: where LK moved it.
   double inner_brow_core_tolerance = 0.08;
   int min_identified = 3;  // markers needed to start tracking
+  // Threads the followed dots' centres are measured on each frame (0: the machine's cores;
+  // OpenCV's cv::setNumThreads caps them). Any count gives the same tracks: each dot is
+  // measured on its own, then all are judged and applied in layout order.
+  int threads = 0;
 };
 
 // One marker's state as the overlay draws it.
