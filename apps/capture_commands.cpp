@@ -1,7 +1,7 @@
 // `rostro capture`: frames (or a tracks CSV) in, a .fap out, streamed frame by frame so that
 // Ctrl-C or a camera unplugged mid-take leaves a valid file of every frame so far. Wiring
-// only: capture -> tracking -> mapping::TakeMapper (calib when no profile, then the fit) ->
-// facecore's .fap sink.
+// only: capture -> tracking -> mapping::PipelinedTakeMapper (calib when no profile, then the
+// fit, on a worker thread while the next frame is tracked) -> facecore's .fap sink.
 
 #include <algorithm>
 #include <cstdio>
@@ -20,7 +20,7 @@
 #include "facecore/face_model.hpp"
 #include "facecore/fap_io.hpp"
 #include "mapping/fap_mapper.hpp"
-#include "mapping/take_mapper.hpp"
+#include "mapping/pipelined_take_mapper.hpp"
 #include "render/face_renderer.hpp"
 #include "render/preview.hpp"
 #include "render/video_writer.hpp"
@@ -135,7 +135,10 @@ void run_capture(const CaptureArgs& a) {
                                                    : calib::default_intrinsics(input.size());
   const long calibration_frames =
       std::max(1L, static_cast<long>(a.calibration_seconds * input.fps() + 0.5));
-  mapping::TakeMapper take(layout, options, camera, std::move(profile), calibration_frames);
+  // The fit runs on a second core, a frame or a few behind the tracking: push() hands back
+  // the frames mapped so far, finish() the rest (and after Ctrl-C or a lost camera too).
+  mapping::PipelinedTakeMapper take(layout, options, camera, std::move(profile),
+                                    calibration_frames);
 
   FapHeader header;
   header.name = "rostro-capture";
@@ -186,7 +189,8 @@ void run_capture(const CaptureArgs& a) {
     if (want_views) views.push_back(view);
     write(take.push(f));
   }
-  // A stopped or broken take with nothing held back has nothing left to calibrate or map.
+  // A stopped or broken take with nothing held back (queued, in the fit, or waiting for the
+  // calibration) has nothing left to calibrate or map.
   if (take.held_back() > 0 || !(failure || interrupt.requested())) write(take.finish());
   progress.finish();
   sink->finish();
