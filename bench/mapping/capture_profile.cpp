@@ -1,7 +1,7 @@
 // A deterministic view of bench_capture_throughput's per-frame work, for profilers and for
 // checking that a speed change leaves the tracks alone.
 //
-//   capture_profile CACHE [FRAMES]
+//   capture_profile CACHE [FRAMES [THREADS]]
 //   capture_profile --video CLIP.mp4
 //
 // The first run renders the benchmark's take (1280x720, range of motion after one neutral
@@ -11,7 +11,9 @@
 // forwards and backwards, as the benchmark does. Only that loop is collected under
 // `valgrind --tool=callgrind --collect-atstart=no`, so the instruction counts are the loop's.
 // It prints a hash of every tracked position, validity and quality and of every FAP value:
-// equal hashes before and after a change mean bit-identical tracks and FAPs. With --video it
+// equal hashes before and after a change mean bit-identical tracks and FAPs. THREADS 2 runs
+// the two-core capture instead (the dots measured on 2 threads, the fit pipelined on a worker
+// thread, as `rostro capture` does): its hashes must equal the one-thread run's. With --video it
 // tracks every frame of a clip (as `rostro track` does, default options) and prints the
 // tracks' hash only.
 
@@ -21,11 +23,11 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +35,7 @@
 #include "calib/actor_prior.hpp"
 #include "mapping/fap_mapper.hpp"
 #include "mapping/hierarchy.hpp"
+#include "mapping/pipelined_take_mapper.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
@@ -40,40 +43,7 @@ namespace {
 
 using namespace rostro;
 
-constexpr int kWidth = bench::kTakeWidth, kHeight = bench::kTakeHeight;
 constexpr int kCalibrationFrames = 25;
-
-using Take = bench::RenderedTake;
-
-// CACHE: frame count, fx fy cx cy, then the frames' BGR bytes.
-void save(const std::filesystem::path& path, const Take& t) {
-  std::ofstream out(path, std::ios::binary);
-  const auto n = static_cast<int32_t>(t.frames.size());
-  out.write(reinterpret_cast<const char*>(&n), sizeof n);
-  const double k[4] = {t.intrinsics.fx, t.intrinsics.fy, t.intrinsics.cx, t.intrinsics.cy};
-  out.write(reinterpret_cast<const char*>(k), sizeof k);
-  for (const cv::Mat& f : t.frames)
-    out.write(reinterpret_cast<const char*>(f.data), static_cast<std::streamsize>(f.total() * 3));
-}
-
-Take load(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  int32_t n = 0;
-  double k[4];
-  in.read(reinterpret_cast<char*>(&n), sizeof n);
-  in.read(reinterpret_cast<char*>(k), sizeof k);
-  Take t;
-  t.intrinsics = calib::default_intrinsics({kWidth, kHeight});
-  t.intrinsics.fx = k[0], t.intrinsics.fy = k[1], t.intrinsics.cx = k[2], t.intrinsics.cy = k[3];
-  t.intrinsics.source = "synth";
-  for (int32_t i = 0; i < n; ++i) {
-    cv::Mat f(kHeight, kWidth, CV_8UC3);
-    in.read(reinterpret_cast<char*>(f.data), static_cast<std::streamsize>(f.total() * 3));
-    t.frames.push_back(f);
-  }
-  if (!in || t.frames.size() <= kCalibrationFrames) throw std::runtime_error("bad cache");
-  return t;
-}
 
 struct Hash {
   uint64_t h = 1469598103934665603ull;  // FNV-1a
@@ -91,10 +61,11 @@ struct Hash {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::cerr << "usage: capture_profile CACHE [FRAMES]\n";
+    std::cerr << "usage: capture_profile CACHE [FRAMES [THREADS]]\n";
     return 2;
   }
-  cv::setNumThreads(1);
+  const int threads = argc > 3 ? std::stoi(argv[3]) : 1;
+  cv::setNumThreads(threads);
   if (std::string(argv[1]) == "--video" && argc > 2) {
     cv::VideoCapture video(argv[2]);
     tracking::MarkerTracker tracker(tracking::load_layout(tracking::default_layout_path()));
@@ -113,8 +84,8 @@ int main(int argc, char** argv) {
   const std::filesystem::path cache = argv[1];
   const long frames = argc > 2 ? std::stol(argv[2]) : 200;
   const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
-  if (!std::filesystem::exists(cache)) save(cache, bench::render_capture_take(layout));
-  const Take t = load(cache);
+  const bench::RenderedTake t = bench::cached_capture_take(cache, layout);
+  if (t.frames.size() <= kCalibrationFrames) throw std::runtime_error("take too short");
 
   tracking::MarkerTracker calibration_tracker(layout);
   std::vector<tracking::TrackedFrame> neutral;
@@ -126,8 +97,13 @@ int main(int argc, char** argv) {
 
   mapping::MapperOptions options;
   options.hierarchy = mapping::default_hierarchy();
-  tracking::MarkerTracker tracker(layout);
+  tracking::TrackerOptions tracker_options;
+  tracker_options.threads = threads;
+  tracking::MarkerTracker tracker(layout, tracker_options);
+  // One thread: the fit after each frame's tracking; more: on a worker, one frame behind.
   auto mapper = mapping::make_fap_mapper(profile, options);
+  std::optional<mapping::PipelinedTakeMapper> pipeline;
+  if (threads > 1) pipeline.emplace(layout, options, profile.camera, profile, kCalibrationFrames);
   const long first = kCalibrationFrames, last = static_cast<long>(t.frames.size()) - 1;
   for (long i = 0; i < first; ++i)
     tracker.track(t.frames[static_cast<size_t>(i)], i, static_cast<double>(i) / 25.0);
@@ -138,7 +114,10 @@ int main(int argc, char** argv) {
   for (long n = 0; n < frames; ++n) {
     const auto tracked =
         tracker.track(t.frames[static_cast<size_t>(i)], count, static_cast<double>(count) / 25.0);
-    const FapFrame fap = mapper->map(tracked);
+    if (pipeline)
+      for (const FapFrame& fap : pipeline->push(tracked)) fap_hash.add(fap.values);
+    else
+      fap_hash.add(mapper->map(tracked).values);
     for (size_t k = 0; k < tracked.markers.size(); ++k) {
       const auto& m = tracked.markers[k];
       valid_count[k] += m.valid;
@@ -146,11 +125,12 @@ int main(int argc, char** argv) {
       if (m.valid) track_hash.add(m.position.x), track_hash.add(m.position.y), ++valid;
       track_hash.add(m.quality);
     }
-    fap_hash.add(fap.values);
     ++count;
     if (i + step < first || i + step > last) step = -step;
     i += step;
   }
+  if (pipeline)
+    for (const FapFrame& fap : pipeline->finish()) fap_hash.add(fap.values);
   CALLGRIND_TOGGLE_COLLECT;
   std::printf("frames %ld  valid markers %ld  track hash %016llx  fap hash %016llx\n", frames,
               valid, static_cast<unsigned long long>(track_hash.h),
