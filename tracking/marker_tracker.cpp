@@ -12,6 +12,7 @@
 #include "tracking/affine2d.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/ink_core.hpp"
+#include "tracking/lid_geometry.hpp"
 #include "tracking/lk_pyramid.hpp"
 #include "tracking/lower_lip_search.hpp"
 
@@ -65,7 +66,9 @@ struct MarkerTracker::Impl {
       s.spec = &m;
       states.push_back(s);
     }
-    find_lid_corners();
+    std::vector<FeaturePointId> points;
+    for (const MarkerState& s : states) points.push_back(s.spec->feature_point);
+    lids = LidGeometry(points);
     options.dots.polarity = layout.polarity;
     centroid_dots = options.dots;
     centroid_dots.edge_fit = false;
@@ -362,7 +365,7 @@ struct MarkerTracker::Impl {
   // and the eyes lie at other depths than their neighbours. Around the mouth, where the lips'
   // dark line and the open mouth are, a dot merged for a frame is better kept than dropped
   // (the suite's mouth clip: dropped lip dots come back on a neighbour's).
-  bool at_eye(size_t i) const { return states[i].spec->feature_point.group == 3; }
+  bool at_eye(size_t i) const { return is_eye_point(states[i].spec->feature_point); }
   bool at_brow(size_t i) const { return states[i].spec->feature_point.group == 4; }
   // MPEG-4 4.1, 4.2: the inner brow dots, at the eyebrows' inner ends.
   bool is_inner_brow(size_t i) const {
@@ -397,18 +400,10 @@ struct MarkerTracker::Impl {
         at_eye(i) || options.edge_fit_elsewhere || (options.edge_fit_mid_brows && is_mid_brow(i));
     return edge_fit ? options.dots : centroid_dots;
   }
-  // MPEG-4 3.x: the eye corners' indices.
-  static constexpr int kRightInnerCorner = 8, kLeftInnerCorner = 11, kLeftOuterCorner = 7,
-                       kRightOuterCorner = 12;
   bool is_inner_corner(size_t i) const {
-    const FeaturePointId& fp = states[i].spec->feature_point;
-    return fp.group == 3 && (fp.index == kRightInnerCorner || fp.index == kLeftInnerCorner);
+    return is_inner_eye_corner(states[i].spec->feature_point);
   }
-  // MPEG-4 3.1-3.4: the upper and lower lids' midpoints (odd: the face's left eye).
-  bool is_lid(size_t i) const {
-    const FeaturePointId& fp = states[i].spec->feature_point;
-    return fp.group == 3 && fp.index >= 1 && fp.index <= 4;
-  }
+  bool is_lid(size_t i) const { return is_lid_point(states[i].spec->feature_point); }
   double face_scale = 1;  // the face's size now over its size at the start
   // Where a merged inner brow dot is: the centre of its ink's core near `from`
   // (TrackerOptions::inner_brow_core_tolerance), else `otherwise`.
@@ -782,45 +777,13 @@ struct MarkerTracker::Impl {
   // A lid carried from where it was last seen moves up and down with the lid meanwhile, but
   // hardly sideways: a dot well to the side of where it is carried is an eye corner's.
   bool along_its_lid_line(size_t i, cv::Point2d at, double scale) const {
-    const std::optional<cv::Point2d> axis = eye_axis(i);
+    const std::optional<cv::Point2d> axis = lids.axis(i, reference, prediction_fit[i]);
     if (!axis) return true;
     return std::abs((at - predicted_at(i)).dot(*axis)) <=
            options.lid_sideways_fraction * spacing[i] * scale;
   }
 
-  // The corners (inner, outer) of the eye each lid dot belongs to, found once from the layout
-  // (MPEG-4 3.11/3.7 left, 3.8/3.12 right); empty for other dots and when a corner has no dot.
-  std::vector<std::optional<std::pair<size_t, size_t>>> lid_corners;
-  void find_lid_corners() {
-    lid_corners.assign(states.size(), std::nullopt);
-    for (size_t i = 0; i < states.size(); ++i) {
-      if (!is_lid(i)) continue;
-      const bool left = states[i].spec->feature_point.index % 2 == 1;
-      std::optional<size_t> inner, outer;
-      for (size_t j = 0; j < states.size(); ++j) {
-        const FeaturePointId& fp = states[j].spec->feature_point;
-        if (fp.group != 3) continue;
-        if (fp.index == (left ? kLeftInnerCorner : kRightInnerCorner)) inner = j;
-        if (fp.index == (left ? kLeftOuterCorner : kRightOuterCorner)) outer = j;
-      }
-      if (inner && outer) lid_corners[i] = std::pair{*inner, *outer};
-    }
-  }
-  const std::optional<std::pair<size_t, size_t>>& eye_corners(size_t i) const {
-    return lid_corners[i];
-  }
-
-  // The image direction of lid i's eye from inner to outer corner, as the prediction maps it.
-  std::optional<cv::Point2d> eye_axis(size_t i) const {
-    const auto corners = eye_corners(i);
-    if (!corners) return std::nullopt;
-    const cv::Matx23d& m = prediction_fit[i];
-    const cv::Point2d r = reference[corners->second] - reference[corners->first];
-    const cv::Point2d axis(m(0, 0) * r.x + m(0, 1) * r.y, m(1, 0) * r.x + m(1, 1) * r.y);
-    const double length = cv::norm(axis);
-    if (length <= 0) return std::nullopt;
-    return axis * (1.0 / length);
-  }
+  LidGeometry lids;  // each lid dot's eye corners (lid_geometry.hpp)
 
   // An upper-lid dot lies above its eye's corner line and a lower-lid dot below it, even in a
   // blink (the lids meet near the line, a fraction of a spacing off at most), and not much
@@ -828,21 +791,15 @@ struct MarkerTracker::Impl {
   // lid's, the brow's or a corner's. Checked only while both corners are followed: a line
   // through predicted corners tilts too much under head turns to tell.
   bool in_its_lid_band(size_t i, cv::Point2d at) const {
-    const auto corners = eye_corners(i);
+    const auto& corners = lids.corners(i);
     if (!corners) return true;
     const auto [inner, outer] = *corners;
     if (!states[inner].valid || !states[outer].valid) return true;
-    auto cross = [](cv::Point2d a, cv::Point2d b) { return a.x * b.y - a.y * b.x; };
-    const cv::Point2d line = states[outer].position - states[inner].position;
-    const cv::Point2d ref_line = reference[outer] - reference[inner];
-    const double length = cv::norm(line), ref_length = cv::norm(ref_line);
-    if (length <= 0 || ref_length <= 0) return true;
-    // Signed distances from the line, positive on the side the dot was at the start.
-    const double ref_offset = cross(ref_line, reference[i] - reference[inner]) / ref_length;
-    const double offset =
-        cross(line, at - states[inner].position) / length * (ref_offset > 0 ? 1 : -1);
-    return offset >= -options.lid_overshoot_fraction * spacing[i] * face_scale &&
-           offset <= options.lid_reach * std::abs(ref_offset) * face_scale;
+    const auto offset = lids.offset_from_corner_line(i, reference, at, states[inner].position,
+                                                     states[outer].position);
+    if (!offset) return true;
+    return offset->now >= -options.lid_overshoot_fraction * spacing[i] * face_scale &&
+           offset->now <= options.lid_reach * offset->at_start * face_scale;
   }
 
   // ---- the lower lip (lower_lip_search.hpp) ---------------------------------------------
