@@ -333,6 +333,7 @@ struct MarkerTracker::Impl {
   bool large_dots = false;  // the dots at the start at least reference_dot_px wide
   double max_fb_error() const { return options.max_fb_error * px; }
   double max_snap() const { return options.max_snap * px; }
+  double max_eye_snap() const { return options.max_eye_snap * px; }
   int lk_window() const {
     return static_cast<int>(std::lround(options.lk_window * std::sqrt(px))) | 1;
   }
@@ -495,7 +496,9 @@ struct MarkerTracker::Impl {
       MarkerState& s = states[owner[k]];
       const double fb = cv::norm(back[k] - before[k]);
       const std::optional<Dot>& d = measured[k];
-      if (!d || cv::norm(d->center - cv::Point2d(after[k])) > max_snap() ||
+      if (!d) continue;
+      const double snap = cv::norm(d->center - cv::Point2d(after[k]));
+      if (snap > max_snap() || (at_eye(owner[k]) && snap > max_eye_snap()) ||
           !dot_passes(owner[k], *d, true))
         continue;
       s.valid = true;

@@ -88,6 +88,14 @@ struct TrackerOptions {
   double tag_decimate_above_px = 48;  // tags wider than this are searched at half resolution
   int tag_redetect_every = 4;         // frames; in between LK follows the tags' corners
   double search_fraction = 0.45;      // re-acquisition radius, fraction of the nearest spacing
+  // Eye dots (lids, corners): the farthest a followed dot's measured centre may lie from where LK
+  // moved it, pixels at reference_dot_px (scaled with the dots' size, as max_snap). The two
+  // agree to 0.25 px in 90-99 % of frames (closed loop, both sizes); a centre farther off is
+  // the dot measured together with a dark neighbour it touches for the frame: an inner
+  // eye-corner dot seen edge-on with the eye slit's corner wedge (turns at 640x480: 2.35 px into
+  // the eye, then followed there 2-2.5 px off for 18 frames), a lid dot with the iris. Such a dot
+  // is reported lost and looked for again. Large values: max_snap alone.
+  double max_eye_snap = 1.5;
   // A lost lid dot is carried from where it was last seen, and found again only this far
   // (fraction of its spacing) to the side of there, along its eye's corner-to-corner line.
   double lid_sideways_fraction = 0.25;
