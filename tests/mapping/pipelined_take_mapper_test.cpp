@@ -20,18 +20,10 @@ namespace {
 
 constexpr int kOpenJaw = 3;
 
-// `neutral` still frames, then the jaw opening frame by frame, with marker noise: each frame's
-// FAPs differ, and the fit's warm start carries from frame to frame.
+// `neutral` still frames, then the jaw opening frame by frame (test::jaw_opening_take).
 std::vector<tracking::TrackedFrame> take(const test::SyntheticActor& actor, long neutral,
                                          long moving) {
-  std::mt19937 rng(5);
-  const auto pose = test::head_pose(3, -2, 1);
-  std::vector<tracking::TrackedFrame> frames;
-  for (long i = 0; i < neutral + moving; ++i) {
-    const double jaw = i < neutral ? 0.0 : 40.0 * static_cast<double>(i - neutral + 1);
-    frames.push_back(test::render(actor, {{kOpenJaw, jaw}}, pose, 0.1, rng, i));
-  }
-  return frames;
+  return test::jaw_opening_take(actor, neutral, moving, test::head_pose(3, -2, 1), 5);
 }
 
 mapping::MapperOptions with_hierarchy() {

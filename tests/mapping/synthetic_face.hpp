@@ -124,6 +124,23 @@ inline tracking::TrackedFrame render(const SyntheticActor& a, const std::map<int
   return f;
 }
 
+// A take of `a`: `neutral` still frames, then the jaw opening by 40 MNS a frame for `moving`
+// frames, with `noise_px` of marker noise: each frame's FAPs differ (a frame can be told apart
+// by its open_jaw), and a fit's warm start carries from frame to frame.
+inline std::vector<tracking::TrackedFrame> jaw_opening_take(const SyntheticActor& a, long neutral,
+                                                            long moving,
+                                                            const tracking::HeadPose& pose,
+                                                            unsigned seed, double noise_px = 0.1) {
+  constexpr int kOpenJaw = 3;
+  std::mt19937 rng(seed);
+  std::vector<tracking::TrackedFrame> frames;
+  for (long i = 0; i < neutral + moving; ++i) {
+    const double jaw = i < neutral ? 0.0 : 40.0 * static_cast<double>(i - neutral + 1);
+    frames.push_back(render(a, {{kOpenJaw, jaw}}, pose, noise_px, rng, i));
+  }
+  return frames;
+}
+
 // The profile a perfect calibration would give: true 3D shape, true FAPU, true neutral pose.
 inline calib::ActorProfile exact_profile(const SyntheticActor& a,
                                          const tracking::HeadPose& neutral) {

@@ -16,18 +16,10 @@ namespace {
 
 constexpr int kOpenJaw = 3;
 
-// A take of the synthetic actor: `neutral` still frames, then the jaw opening frame by frame,
-// so each output frame can be told apart by its index and its open_jaw.
+// `neutral` still frames, then the jaw opening frame by frame (test::jaw_opening_take).
 std::vector<tracking::TrackedFrame> take(const test::SyntheticActor& actor, long neutral,
                                          long moving) {
-  std::mt19937 rng(3);
-  const auto pose = test::head_pose(0, 0, 0);
-  std::vector<tracking::TrackedFrame> frames;
-  for (long i = 0; i < neutral + moving; ++i) {
-    const double jaw = i < neutral ? 0.0 : 40.0 * static_cast<double>(i - neutral + 1);
-    frames.push_back(test::render(actor, {{kOpenJaw, jaw}}, pose, 0.1, rng, i));
-  }
-  return frames;
+  return test::jaw_opening_take(actor, neutral, moving, test::head_pose(0, 0, 0), 3);
 }
 
 struct Collected {
