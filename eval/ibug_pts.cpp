@@ -5,12 +5,9 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
-#include "facecore/json_file.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -54,47 +51,6 @@ bool natural_less(const std::string& a, const std::string& b) {
     }
   }
   return a.size() - i < b.size() - j;
-}
-
-IbugMapping read_ibug_mapping(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  const nlohmann::json j = read_json_file(path, "the iBUG mapping");
-  if (!j.is_object() || !j.contains("markers") || !j["markers"].is_array())
-    throw InputError(name + ": expected an object with a \"markers\" array");
-  const int base = j.value("index_base", 1);
-  if (base != 0 && base != 1) throw InputError(name + ": \"index_base\" must be 0 or 1");
-
-  IbugMapping mapping;
-  mapping.point_count = 0;
-  std::size_t n = 0;
-  for (const auto& entry : j["markers"]) {
-    const std::string at = name + ": markers[" + std::to_string(n++) + "]";
-    if (!entry.is_object() || !entry.contains("fp") || !entry["fp"].is_string() ||
-        !entry.contains("ibug") || !entry["ibug"].is_array() || entry["ibug"].empty())
-      throw InputError(at + ": expected {\"fp\": \"3.7\", \"ibug\": [46]}");
-    IbugMarker m;
-    const auto fp = parse_feature_point(entry["fp"].get<std::string>());
-    if (!fp)
-      throw InputError(at + ": '" + entry["fp"].get<std::string>() +
-                       "' is not an MPEG-4 feature point");
-    m.feature_point = *fp;
-    m.marker = entry.contains("marker") && entry["marker"].is_string()
-                   ? entry["marker"].get<std::string>()
-                   : fp->str();
-    for (const auto& index : entry["ibug"]) {
-      if (!index.is_number_integer() || index.get<int>() < base)
-        throw InputError(at + ": iBUG indices must be integers from " + std::to_string(base));
-      m.points.push_back(index.get<int>() - base);
-      mapping.point_count = std::max(mapping.point_count, m.points.back() + 1);
-    }
-    mapping.markers.push_back(std::move(m));
-  }
-  if (mapping.markers.empty()) throw InputError(name + ": the \"markers\" array is empty");
-  return mapping;
-}
-
-IbugMapping default_ibug_mapping() {
-  return read_ibug_mapping(data_file("eval/ibug68_to_mpeg4.json"));
 }
 
 std::vector<cv::Point2d> read_pts(const std::filesystem::path& path) {

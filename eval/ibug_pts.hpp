@@ -5,35 +5,22 @@
 //   {
 //   x y        (n_points lines, pixels)
 //   }
-// turned into tracks through a mapping from the 68 iBUG points to rostro markers.
-// data/eval/ibug68_to_mpeg4.json is the default mapping; its format:
-//   {"index_base": 1, "markers": [{"marker": "3.7", "fp": "3.7", "ibug": [46]}, ...]}
-// A marker may average several iBUG points ("ibug": [38, 39] is the midpoint of 38 and 39).
-// "marker" is optional and defaults to the feature point's name.
+// turned into tracks through a mapping from the 68 iBUG points to rostro markers
+// (tracking/ibug_mapping.hpp; data/eval/ibug68_to_mpeg4.json by default).
 
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "tracking/ibug_mapping.hpp"
 #include "tracking/tracked_frame.hpp"
 
 namespace rostro::eval {
 
-struct IbugMarker {
-  std::string marker;
-  FeaturePointId feature_point;
-  std::vector<int> points;  // 0-based indices into a .pts file
-};
-
-struct IbugMapping {
-  int point_count = 68;  // the largest index + 1 any entry needs
-  std::vector<IbugMarker> markers;
-};
-
-// Throws InputError naming the file and the entry for anything malformed.
-IbugMapping read_ibug_mapping(const std::filesystem::path& path);
-// data/eval/ibug68_to_mpeg4.json.
-IbugMapping default_ibug_mapping();
+using tracking::default_ibug_mapping;
+using tracking::IbugMapping;
+using tracking::IbugMarker;
+using tracking::read_ibug_mapping;
 
 // Throws InputError naming the file and line for a malformed file.
 std::vector<cv::Point2d> read_pts(const std::filesystem::path& path);

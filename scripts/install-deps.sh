@@ -12,6 +12,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   liblo-dev ffmpeg
+  libdlib-dev libdlib-data
 )
 
 missing=()

@@ -109,12 +109,14 @@ std::vector<std::string> MarkerLayout::tag_families() const {
 }
 
 int MarkerLayout::dot_count() const {
-  return static_cast<int>(std::count_if(markers.begin(), markers.end(),
-                                        [](const MarkerSpec& m) { return !m.is_tag(); }));
+  return static_cast<int>(std::count_if(markers.begin(), markers.end(), [](const MarkerSpec& m) {
+    return m.kind == MarkerKind::Dot;
+  }));
 }
 
 int MarkerLayout::tag_count() const {
-  return static_cast<int>(markers.size()) - dot_count();
+  return static_cast<int>(std::count_if(markers.begin(), markers.end(),
+                                        [](const MarkerSpec& m) { return m.is_tag(); }));
 }
 
 MarkerLayout parse_layout(const std::string& json_text, const std::string& source_name) {

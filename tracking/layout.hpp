@@ -21,7 +21,9 @@
 
 namespace rostro::tracking {
 
-enum class MarkerKind { Dot, AprilTag };
+// Landmark: a point a face landmark model finds on a bare face (tracking/ibug_mapping.hpp),
+// not something the actor wears; landmark layouts are built in code, not read from JSON.
+enum class MarkerKind { Dot, AprilTag, Landmark };
 enum class DotPolarity { Dark, Bright };
 
 struct MarkerSpec {

@@ -15,6 +15,7 @@
 #include "tracking/lid_geometry.hpp"
 #include "tracking/lk_pyramid.hpp"
 #include "tracking/lower_lip_search.hpp"
+#include "tracking/overlay.hpp"
 
 namespace rostro::tracking {
 namespace {
@@ -937,6 +938,9 @@ const std::vector<MarkerState>& MarkerTracker::states() const {
 }
 const MarkerLayout& MarkerTracker::layout() const {
   return impl_->layout;
+}
+void MarkerTracker::draw(cv::Mat& image, long frame) const {
+  draw_overlay(image, impl_->states, frame);
 }
 
 }  // namespace rostro::tracking

@@ -34,6 +34,7 @@
 
 #include "tracking/apriltag_detector.hpp"
 #include "tracking/dot_detector.hpp"
+#include "tracking/face_tracker.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/tracked_frame.hpp"
 
@@ -184,20 +185,21 @@ struct MarkerState {
   int lost_frames = 0;  // frames since it was last valid
 };
 
-class MarkerTracker {
+class MarkerTracker : public FaceTracker {
  public:
   MarkerTracker(MarkerLayout layout, TrackerOptions options = {});
-  ~MarkerTracker();
+  ~MarkerTracker() override;
 
   // Start from these positions (layout id -> pixels) instead of identifying automatically.
   void set_start_positions(const std::map<std::string, cv::Point2d>& positions);
 
   // `image`: 8-bit grey or BGR. Every layout marker appears in the result, in layout order.
-  TrackedFrame track(const cv::Mat& image, long frame, double time_s);
+  TrackedFrame track(const cv::Mat& image, long frame, double time_s) override;
 
-  bool started() const;
+  bool started() const override;
   const std::vector<MarkerState>& states() const;
-  const MarkerLayout& layout() const;
+  const MarkerLayout& layout() const override;
+  void draw(cv::Mat& image, long frame) const override;  // tracking/overlay.hpp
 
  private:
   struct Impl;
