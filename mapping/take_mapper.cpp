@@ -4,6 +4,7 @@
 
 #include "calib/actor_calibration.hpp"
 #include "calib/actor_prior.hpp"
+#include "facecore/error.hpp"
 
 namespace rostro::mapping {
 
@@ -26,7 +27,12 @@ TakeMapper::~TakeMapper() = default;
 std::vector<FapFrame> TakeMapper::push(const tracking::TrackedFrame& frame) {
   if (mapper_) return {mapper_->map(frame)};
   pending_.push_back(frame);
-  if (static_cast<long>(pending_.size()) < calibration_frames_) return {};
+  // Frames before the face is found (a late start, a bare face not yet detected) wait with
+  // the others but do not count toward the neutral window: it starts with the face.
+  if (std::any_of(frame.markers.begin(), frame.markers.end(),
+                  [](const tracking::MarkerObservation& m) { return m.valid; }))
+    ++usable_;
+  if (usable_ < calibration_frames_) return {};
   calibrate();
   return drain();
 }
@@ -43,9 +49,17 @@ std::optional<tracking::HeadPose> TakeMapper::last_pose() const {
 void TakeMapper::calibrate() {
   // The prior is only needed here; the options point into it, so it lives as long as they do.
   const calib::ActorPrior prior = calib::load_actor_prior();
-  profile_ = calib::calibrate_actor({pending_.begin(), pending_.end()}, camera_,
+  std::vector<tracking::TrackedFrame> neutral;
+  for (const tracking::TrackedFrame& f : pending_)
+    if (std::any_of(f.markers.begin(), f.markers.end(),
+                    [](const tracking::MarkerObservation& m) { return m.valid; }))
+      neutral.push_back(f);
+  if (neutral.empty() && !pending_.empty())
+    throw InputError("actor calibration: none of the " + std::to_string(pending_.size()) +
+                     " frames has a tracked marker or landmark");
+  profile_ = calib::calibrate_actor(neutral, camera_,
                                     calib::actor_calibration_options(layout_, prior, "actor"));
-  calibrated_from_ = static_cast<long>(pending_.size());
+  calibrated_from_ = static_cast<long>(neutral.size());
   mapper_ = make_fap_mapper(profile_, options_);
 }
 

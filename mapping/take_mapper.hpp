@@ -1,8 +1,9 @@
 #pragma once
 // A whole take mapped frame by frame in order, as `rostro capture` and `rostro eval loop` do:
 // with an actor profile every frame is mapped at once; without one the first frames (the
-// first second of the take, taken as the actor's neutral face) are held back, the actor is
-// calibrated on them, and then they and every later frame are mapped. A take shorter than
+// first second of the take from the first frame with a tracked marker, taken as the actor's
+// neutral face) are held back, the actor is calibrated on them, and then they and every later
+// frame are mapped. A take shorter than
 // the calibration window is calibrated on what it has when it ends.
 
 #include <deque>
@@ -64,6 +65,7 @@ class TakeMapper {
   std::unique_ptr<FapMapper> mapper_;
   std::deque<tracking::TrackedFrame> pending_;
   long calibrated_from_ = 0;
+  long usable_ = 0;  // held-back frames with any valid marker
 };
 
 }  // namespace rostro::mapping
