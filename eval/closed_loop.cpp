@@ -229,19 +229,28 @@ const LoopScore& LoopResult::score(LoopMethod m) const {
 LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
                              const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
                              const LoopProgress& progress) {
+  return run_loop_scenario(
+      s, model, library, [&layout] { return std::make_unique<tracking::MarkerTracker>(layout); },
+      progress);
+}
+
+LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
+                             const ExpressionLibrary* library, const TrackerFactory& make_tracker,
+                             const LoopProgress& progress) {
   const FapStream drive = loop_drive(s);
   const double fps = drive.header.fps;
   const long total = static_cast<long>(drive.frames.size());
 
+  const std::unique_ptr<tracking::FaceTracker> tracker = make_tracker();
+  const tracking::MarkerLayout& layout = tracker->layout();
   SynthOptions o = s.synth;
   o.dot_diameter_mm = layout.dot_diameter_mm;
   o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
   const auto markers = place_markers(model, layout);
-  tracking::MarkerTracker tracker(layout);
   std::vector<tracking::TrackedFrame> tracked;
   CallbackSink sink([&](const cv::Mat& bgr) {
     const auto i = static_cast<std::size_t>(tracked.size());
-    tracked.push_back(tracker.track(bgr, drive.frames[i].index, static_cast<double>(i) / fps));
+    tracked.push_back(tracker->track(bgr, drive.frames[i].index, static_cast<double>(i) / fps));
   });
   const SynthResult truth = synthesize(model, library, markers, drive, o, sink, [&](long done) {
     if (progress) progress(done, total);

@@ -27,6 +27,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,7 @@
 #include "eval/fap_metrics.hpp"
 #include "eval/head_sweeps.hpp"
 #include "eval/synth.hpp"
+#include "tracking/face_tracker.hpp"
 #include "tracking/layout.hpp"
 
 namespace rostro::eval {
@@ -111,7 +113,16 @@ struct LoopResult {
 // Progress of the rendering and tracking: (frames done, frames in the clip).
 using LoopProgress = std::function<void(long, long)>;
 
+// Makes the tracker a scenario's frames go through. Its layout() is what the clip shows (dots
+// and tags are painted; landmarks are not: the head is rendered bare) and what the actor is
+// calibrated on.
+using TrackerFactory = std::function<std::unique_ptr<tracking::FaceTracker>()>;
+
 // Runs one scenario (not a skipped one). Throws render::RenderUnavailable without OpenGL.
+LoopResult run_loop_scenario(const LoopScenario& scenario, const FaceModel& model,
+                             const ExpressionLibrary* library, const TrackerFactory& make_tracker,
+                             const LoopProgress& progress = {});
+// The same with a MarkerTracker on `layout`.
 LoopResult run_loop_scenario(const LoopScenario& scenario, const FaceModel& model,
                              const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
                              const LoopProgress& progress = {});

@@ -362,7 +362,8 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
       const bool inside = obs.position.x >= 0 && obs.position.y >= 0 &&
                           obs.position.x <= o.width - 1 && obs.position.y <= o.height - 1;
       obs.valid = in_front && facing && inside && !occ.covers(obs.position);
-      if (in_front && facing && inside) {
+      // Landmarks are places on the bare skin: truth, nothing painted.
+      if (in_front && facing && inside && pm.spec->kind == tracking::MarkerKind::Dot) {
         // The disc on the skin: a circle in the tangent plane, projected.
         const Eigen::Vector3f n = normals[v].normalized();
         Eigen::Vector3f u = n.cross(Eigen::Vector3f::UnitY());

@@ -61,7 +61,8 @@ struct PaintedMarker {
 
 // The layout's dots that sit on a feature point of `model`, with that point's vertex, then its
 // AprilTags placed on the head (see above). Dots on feature points the model lacks are left
-// out.
+// out. A landmark layout's markers (tracking::MarkerKind::Landmark) are placed like dots but
+// not painted: the head is rendered bare, and the truth is the feature points' projection.
 std::vector<PaintedMarker> place_markers(const FaceModel& model,
                                          const tracking::MarkerLayout& layout);
 
