@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "apps/commands.hpp"
+#include "apps/face_trackers.hpp"
 #include "apps/progress.hpp"
 #include "calib/actor_prior.hpp"
 #include "calib/camera_intrinsics.hpp"
@@ -15,7 +16,6 @@
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
 #include "tracking/layout.hpp"
-#include "tracking/marker_tracker.hpp"
 
 namespace rostro::app {
 
@@ -52,26 +52,38 @@ void run_calibrate_camera(const std::string& source_spec, const std::string& boa
 }
 
 struct ActorArgs {
-  std::string source, layout, camera, output, name = "actor";
+  FaceTrackerArgs face;
+  std::string source, camera, output, name = "actor";
   double seconds = 1.0;
 };
 
 void run_calibrate_actor(const ActorArgs& a) {
+  const std::unique_ptr<tracking::FaceTracker> tracker = a.face.make();
+  const tracking::MarkerLayout& layout = tracker->layout();
   auto source = capture::open_frame_source(a.source);
-  const tracking::MarkerLayout layout = tracking::load_layout(a.layout);
-  tracking::MarkerTracker tracker(layout);
   const double fps = source->nominal_fps() > 0 ? source->nominal_fps() : 25.0;
   const long wanted = std::max(1L, static_cast<long>(a.seconds * fps + 0.5));
   std::vector<tracking::TrackedFrame> frames;
   cv::Size size;
+  // Frames read before the face is found do not count, up to a minute of them.
+  long read = 0;
+  const long max_read = static_cast<long>(60 * fps);
   while (static_cast<long>(frames.size()) < wanted) {
     auto frame = source->next();
     if (!frame) break;
     size = frame->image.size();
-    frames.push_back(
-        tracker.track(frame->image, static_cast<long>(frames.size()), frame->timestamp_s));
+    const tracking::TrackedFrame tracked =
+        tracker->track(frame->image, static_cast<long>(frames.size()), frame->timestamp_s);
+    // The neutral window starts where the face is first found.
+    if (tracker->started()) frames.push_back(tracked);
+    if (++read > max_read && frames.empty()) break;
   }
-  if (frames.empty()) throw InputError(a.source + ": no frames to calibrate from");
+  if (frames.empty())
+    throw InputError(a.source +
+                     (read == 0           ? ": no frames to calibrate from"
+                      : a.face.markerless ? ": no face found in the first "
+                                          : ": no markers identified in the first ") +
+                     (read == 0 ? "" : std::to_string(read) + " frames"));
   const calib::CameraIntrinsics camera =
       a.camera.empty() ? calib::default_intrinsics(size) : calib::read_intrinsics(a.camera);
   const calib::ActorPrior prior = calib::load_actor_prior();
@@ -120,7 +132,7 @@ void add_calibrate_commands(CLI::App& app) {
       ->add_option("SOURCE", args.source,
                    "Video, image folder or /dev/videoN showing the neutral face")
       ->required();
-  actor->add_option("--layout", args.layout, "Marker layout JSON")->required();
+  args.face.add_options(actor, true);
   actor->add_option("--camera", args.camera,
                     "Camera intrinsics (default: f = image width, centred)");
   actor->add_option("--seconds", args.seconds, "Neutral seconds to use from the start")
@@ -128,8 +140,8 @@ void add_calibrate_commands(CLI::App& app) {
   actor->add_option("--name", args.name, "Actor name stored in the profile")->capture_default_str();
   actor->add_option("-o,--output", args.output, "Actor profile JSON")->required();
   actor->footer(
-      "Example:\n  rostro calibrate actor neutral.mp4 --layout data/layouts/default.json --camera "
-      "camera.yml -o actor.json");
+      "Examples:\n  rostro calibrate actor neutral.mp4 --layout data/layouts/default.json --camera "
+      "camera.yml -o actor.json\n  rostro calibrate actor neutral.mp4 --markerless -o actor.json");
   actor->callback([] { run_calibrate_actor(args); });
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "apps/commands.hpp"
+#include "apps/face_trackers.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "calib/camera_intrinsics.hpp"
@@ -25,8 +26,6 @@
 #include "render/preview.hpp"
 #include "render/video_writer.hpp"
 #include "tracking/layout.hpp"
-#include "tracking/marker_tracker.hpp"
-#include "tracking/overlay.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
@@ -34,8 +33,8 @@ namespace rostro::app {
 namespace {
 
 struct CaptureArgs {
-  std::string source, layout, actor, camera, output, tracks, preview, method = "ceres",
-                                                                      size = "1280x720";
+  FaceTrackerArgs face;
+  std::string source, actor, camera, output, tracks, preview, method = "ceres", size = "1280x720";
   bool no_hierarchy = false;
   double calibration_seconds = 1.0;
 };
@@ -43,16 +42,17 @@ struct CaptureArgs {
 // Tracked frames from a frame source through the tracker, or straight from a tracks CSV.
 class TrackedInput {
  public:
-  TrackedInput(const CaptureArgs& a, const tracking::MarkerLayout& layout) {
+  explicit TrackedInput(const CaptureArgs& a) {
     if (a.source.size() > 4 && a.source.substr(a.source.size() - 4) == ".csv") {
+      layout_ = a.face.make_layout();
       reader_ = std::make_unique<tracking::TracksReader>(a.source);
       int w = 0, h = 0;
       if (std::sscanf(a.size.c_str(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0)
         throw InputError("--size '" + a.size + "': expected WIDTHxHEIGHT");
       size_ = {w, h};
     } else {
+      tracker_ = a.face.make();
       source_ = capture::open_frame_source(a.source);
-      tracker_ = std::make_unique<tracking::MarkerTracker>(layout);
       size_ = source_->frame_size();
       fps_ = source_->nominal_fps();
       total_ = source_->frame_count();
@@ -66,10 +66,13 @@ class TrackedInput {
     out = tracker_->track(frame->image, index_++, frame->timestamp_s);
     if (view != nullptr) {
       *view = frame->image.clone();
-      tracking::draw_overlay(*view, tracker_->states(), out.frame);
+      tracker_->draw(*view, out.frame);
     }
     return true;
   }
+  const tracking::MarkerLayout& layout() const { return tracker_ ? tracker_->layout() : layout_; }
+  // False while a tracker has not found the face yet (markers identified, a face detected).
+  bool face_found() const { return !tracker_ || tracker_->started(); }
   bool has_images() const { return source_ != nullptr; }
   cv::Size size() const { return size_; }
   double fps() const { return fps_ > 0 ? fps_ : 25.0; }
@@ -78,7 +81,8 @@ class TrackedInput {
  private:
   std::unique_ptr<tracking::TracksReader> reader_;
   std::unique_ptr<capture::FrameSource> source_;
-  std::unique_ptr<tracking::MarkerTracker> tracker_;
+  tracking::MarkerLayout layout_;  // of a tracks CSV
+  std::unique_ptr<tracking::FaceTracker> tracker_;
   cv::Size size_;
   double fps_ = 0;
   std::int64_t total_ = -1;
@@ -117,8 +121,8 @@ class CapturePreview {
 };
 
 void run_capture(const CaptureArgs& a) {
-  const tracking::MarkerLayout layout = tracking::load_layout(a.layout);
-  TrackedInput input(a, layout);
+  TrackedInput input(a);
+  const tracking::MarkerLayout& layout = input.layout();
   mapping::MapperOptions options;
   options.method = mapping::parse_method(a.method);
   if (!a.no_hierarchy) options.hierarchy = mapping::default_hierarchy();
@@ -189,6 +193,11 @@ void run_capture(const CaptureArgs& a) {
     if (want_views) views.push_back(view);
     write(take.push(f));
   }
+  if (!input.face_found() && !interrupt.requested())
+    throw InputError(a.source +
+                     (a.face.markerless ? ": no face found in any frame"
+                                        : ": the markers were never identified") +
+                     "; nothing written");
   // A stopped or broken take with nothing held back (queued, in the fit, or waiting for the
   // calibration) has nothing left to calibrate or map.
   if (take.held_back() > 0 || !(failure || interrupt.requested())) write(take.finish());
@@ -206,12 +215,12 @@ void run_capture(const CaptureArgs& a) {
 }  // namespace
 
 void add_capture_commands(CLI::App& app) {
-  auto* cmd =
-      app.add_subcommand("capture", "Track an actor's markers and write MPEG-4 FAPs (.fap)");
+  auto* cmd = app.add_subcommand(
+      "capture", "Track an actor's markers or bare face and write MPEG-4 FAPs (.fap)");
   static CaptureArgs a;
   cmd->add_option("SOURCE", a.source, "Video file, image folder, /dev/videoN, or a tracks .csv")
       ->required();
-  cmd->add_option("--layout", a.layout, "Marker layout JSON")->required();
+  a.face.add_options(cmd, true);
   cmd->add_option(
       "--actor", a.actor,
       "Actor profile from 'rostro calibrate actor' (default: calibrate from the first second)");
@@ -230,8 +239,11 @@ void add_capture_commands(CLI::App& app) {
   cmd->add_option("--size", a.size, "Image size of a tracks .csv source (for default intrinsics)")
       ->capture_default_str();
   cmd->footer(
-      "Ctrl-C stops the take and keeps every frame so far.\n\nExample:\n  rostro capture take.mp4 "
-      "--layout data/layouts/default.json --actor actor.json -o take.fap --tracks take.csv");
+      "Ctrl-C stops the take and keeps every frame so far. With --markerless a bare face is\n"
+      "tracked by its 68 landmarks (dlib); frames where it is not found carry no FAPs.\n\n"
+      "Examples:\n  rostro capture take.mp4 "
+      "--layout data/layouts/default.json --actor actor.json -o take.fap --tracks take.csv\n"
+      "  rostro capture face.mp4 --markerless -o face.fap --preview face-preview.mp4");
   cmd->callback([] { run_capture(a); });
 }
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "apps/commands.hpp"
+#include "apps/face_trackers.hpp"
 #include "apps/progress.hpp"
 #include "eval/closed_loop.hpp"
 #include "eval/eval_plots.hpp"
@@ -219,6 +220,7 @@ void eval_suite(const SuiteArgs& a) {
 
 struct LoopArgs {
   std::string file, layout, markdown, only, out;
+  FaceTrackerArgs face;  // --markerless: the head rendered bare, tracked by its landmarks
 };
 
 std::string describe_drive(const eval::LoopScenario& s) {
@@ -254,8 +256,13 @@ void eval_loop(const LoopArgs& a) {
     scenarios += fmt::format("- **{}**: {}.\n", s.name, describe_drive(s));
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       static_cast<long>(eval::loop_drive(s).frames.size()));
-    results.push_back(eval::run_loop_scenario(s, scene.model, &scene.library, scene.layout,
-                                              [&](long done, long) { progress.update(done); }));
+    const auto show = [&](long done, long) { progress.update(done); };
+    if (a.face.markerless)
+      results.push_back(eval::run_loop_scenario(
+          s, scene.model, &scene.library, [&] { return a.face.make(); }, show));
+    else
+      results.push_back(
+          eval::run_loop_scenario(s, scene.model, &scene.library, scene.layout, show));
     progress.finish();
     if (!a.out.empty()) {
       // The streams behind the tables, for `rostro eval faps --plot`, and the tracks behind
@@ -278,22 +285,34 @@ void eval_loop(const LoopArgs& a) {
   std::fputs(eval::loop_summary_text(results).c_str(), stdout);
   for (const auto& r : results) std::printf("\n%s", eval::loop_fap_table_text(r).c_str());
   if (!a.markdown.empty()) {
+    std::string flag = a.face.markerless ? " --markerless" : "";
+    if (!a.file.empty()) flag += " --file " + a.file;
     std::string body = fmt::format(
-        "Written by `rostro eval loop --markdown` (rostro {}) on {}; scenarios in "
-        "`data/eval/closed_loop.json`. Each clip is rendered in-process at 640x480 (no video "
-        "file), tracked with automatic identification, and mapped by `mapping::TakeMapper` as "
+        "Written by `rostro eval loop{} --markdown` (rostro {}) on {}; scenarios in "
+        "`{}`. Each clip is rendered in-process (no video "
+        "file), {}, and mapped by `mapping::TakeMapper` as "
         "`rostro capture` maps a take without a profile: the actor calibrated from the first "
         "second (the neutral lead-in), the clip's own camera intrinsics, the default "
-        "hierarchy.\n\n```sh\nrostro eval loop                               # prints the "
-        "tables\nrostro eval loop --markdown docs/accuracy.md   # and rewrites this "
-        "section\nrostro eval loop --only still,turns            # a subset\n```\n\n{}\n\n{}{}\n{}",
-        ROSTRO_VERSION, fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
-        eval::loop_definitions(), scenarios, skipped, eval::loop_summary_markdown(results));
+        "hierarchy.\n\n```sh\nrostro eval loop{}                               # prints the "
+        "tables\nrostro eval loop{} --markdown docs/accuracy.md   # and rewrites this "
+        "section\n```\n\n{}\n\n{}{}\n{}",
+        flag, ROSTRO_VERSION, fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        a.file.empty() ? "data/eval/closed_loop.json" : a.file,
+        a.face.markerless ? "the head bare, tracked by dlib's 68 landmarks (`--markerless`)"
+                          : "tracked with automatic identification of the markers",
+        flag, flag, eval::loop_definitions(), scenarios, skipped,
+        eval::loop_summary_markdown(results));
     for (const auto& r : results)
       body += fmt::format("\n### {} ({} frames)\n\n{}", r.title, r.frames,
                           eval::loop_fap_table_markdown(r));
-    eval::replace_markdown_section(a.markdown, "## Closed loop: FAPs", body);
-    std::printf("tables written to %s (section \"Closed loop: FAPs\")\n", a.markdown.c_str());
+    // One bare-face section per scenario file (the sizes differ between the files).
+    const std::string section =
+        !a.face.markerless ? "## Closed loop: FAPs"
+        : a.file.empty()
+            ? "## Closed loop: bare face"
+            : "## Closed loop: bare face, " + std::filesystem::path(a.file).stem().string();
+    eval::replace_markdown_section(a.markdown, section, body);
+    std::printf("tables written to %s (section \"%s\")\n", a.markdown.c_str(), section.c_str() + 3);
   }
 }
 
@@ -376,6 +395,11 @@ void add_eval_commands(CLI::App& app) {
   loop->add_option("--file", lo.file,
                    "closed-loop definition (default data/eval/closed_loop.json)");
   loop->add_option("--layout", lo.layout, "marker layout JSON (default data/layouts/default.json)");
+  loop->add_flag("--markerless", lo.face.markerless,
+                 "render the head bare and track it by its 68 landmarks (rostro capture "
+                 "--markerless)");
+  loop->add_option("--landmark-model", lo.face.landmarks.model,
+                   "dlib 68-point model with --markerless");
   loop->add_option("--only", lo.only, "run only these scenarios, e.g. still,turns");
   loop->add_option("--out", lo.out,
                    "also write each scenario's truth and mapped streams here as .fap "
@@ -386,7 +410,7 @@ void add_eval_commands(CLI::App& app) {
   loop->footer(
       "Drives under shared: come from $ROSTRO_SHARED (default ../shared); absent ones are "
       "skipped.\n\nExample:\n  rostro eval loop --only still,turns\n  rostro eval loop "
-      "--markdown docs/accuracy.md");
+      "--markdown docs/accuracy.md\n  rostro eval loop --markerless --only still,joy");
   loop->callback([] { eval_loop(lo); });
 }
 

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "apps/commands.hpp"
+#include "apps/face_trackers.hpp"
 #include "apps/interrupt.hpp"
 #include "calib/camera_intrinsics.hpp"
 #include "facecore/error.hpp"
@@ -21,7 +22,8 @@ namespace rostro::app {
 namespace {
 
 struct LiveArgs {
-  std::string camera, layout, actor, intrinsics, vmc, fap_udp, record, method = "ceres";
+  FaceTrackerArgs face;
+  std::string camera, actor, intrinsics, vmc, fap_udp, record, method = "ceres";
   bool headless = false;
   bool no_hierarchy = false;
   double calibration_seconds = 1.0;
@@ -30,7 +32,8 @@ struct LiveArgs {
 void run_live(const LiveArgs& a) {
   live::PipelineOptions o;
   o.camera = a.camera;
-  o.layout = tracking::load_layout(a.layout);
+  o.layout = a.face.make_layout();
+  o.make_tracker = [&a] { return a.face.make(); };
   if (!a.actor.empty()) o.actor = calib::read_actor_profile(a.actor);
   if (!a.intrinsics.empty()) o.intrinsics = calib::read_intrinsics(a.intrinsics);
   o.calibration_seconds = a.calibration_seconds;
@@ -94,7 +97,7 @@ void add_live_commands(CLI::App& app) {
   cmd->add_option("--camera", a.camera,
                   "/dev/videoN, libcamera:N, or a video file (played at its frame rate)")
       ->required();
-  cmd->add_option("--layout", a.layout, "Marker layout JSON")->required();
+  a.face.add_options(cmd, true);
   cmd->add_option("--actor", a.actor,
                   "Actor profile (default: calibrate from the first second, held neutral)");
   cmd->add_option("--intrinsics", a.intrinsics, "Camera intrinsics (OpenCV FileStorage)");
@@ -112,7 +115,8 @@ void add_live_commands(CLI::App& app) {
       "Per-stage p50/p99 times and the capture-to-output delay are printed at exit.\n\n"
       "Example:\n  rostro live --camera /dev/video0 --layout data/layouts/default.json "
       "--vmc 127.0.0.1:39539\n  rostro live --camera take.mp4 --layout "
-      "data/layouts/default.json --headless --fap-udp :9000 --record live.fap");
+      "data/layouts/default.json --headless --fap-udp :9000 --record live.fap\n"
+      "  rostro live --camera /dev/video0 --markerless --vmc 127.0.0.1:39539");
   cmd->callback([] { run_live(a); });
 }
 

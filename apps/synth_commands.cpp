@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
@@ -14,6 +15,7 @@
 #include "facecore/error.hpp"
 #include "facecore/fap_io.hpp"
 #include "render/video_writer.hpp"
+#include "tracking/ibug_mapping.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
@@ -24,6 +26,7 @@ struct SynthArgs {
   double fps = 25, seconds = 0, neutral_lead = 0;
   eval::SynthOptions o;
   eval::HeadSweeps head;  // turns written into the drive's FAPs 48-50
+  bool no_markers = false;
 };
 
 void synth(SynthArgs a) {
@@ -48,13 +51,22 @@ void synth(SynthArgs a) {
 
   const FaceModel model = load_default_face_model();
   const ExpressionLibrary library = ExpressionLibrary::load_default();
-  const tracking::MarkerLayout layout = tracking::load_layout(
-      a.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(a.layout));
+  if (a.no_markers && !a.layout.empty())
+    throw CLI::ValidationError("--no-markers", "renders no layout; leave out --layout");
+  // Bare: the landmark layout places the truth on the feature points and paints nothing.
+  const tracking::MarkerLayout layout =
+      a.no_markers ? tracking::landmark_layout(tracking::default_ibug_mapping(),
+                                               model.feature_point_positions())
+                   : tracking::load_layout(a.layout.empty() ? tracking::default_layout_path()
+                                                            : std::filesystem::path(a.layout));
   const auto painted = eval::place_markers(model, layout);
   a.o.dot_diameter_mm = layout.dot_diameter_mm;
   a.o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
   if (painted.empty()) throw InputError("the layout has no marker that can be placed on the head");
 
+  // The prefix's folder is made, as `-o clips/turn` asks.
+  if (const auto folder = std::filesystem::path(a.output).parent_path(); !folder.empty())
+    std::filesystem::create_directories(folder);
   const std::string video = a.output + ".mp4";
   render::VideoOptions vo;
   vo.fps = drive.header.fps;
@@ -68,8 +80,12 @@ void synth(SynthArgs a) {
   calib::write_intrinsics(a.output + ".intrinsics.yml", r.intrinsics);
   const auto tags = std::count_if(painted.begin(), painted.end(),
                                   [](const eval::PaintedMarker& m) { return m.spec->is_tag(); });
-  std::printf("%s: %zu frames, %zu dots and %ld AprilTags\n", video.c_str(), drive.frames.size(),
-              painted.size() - static_cast<std::size_t>(tags), static_cast<long>(tags));
+  if (a.no_markers)
+    std::printf("%s: %zu frames, bare; truth at %zu feature points\n", video.c_str(),
+                drive.frames.size(), painted.size());
+  else
+    std::printf("%s: %zu frames, %zu dots and %ld AprilTags\n", video.c_str(), drive.frames.size(),
+                painted.size() - static_cast<std::size_t>(tags), static_cast<long>(tags));
   std::printf("%s.truth.csv, %s.fap, %s.intrinsics.yml\n", a.output.c_str(), a.output.c_str(),
               a.output.c_str());
 }
@@ -79,12 +95,15 @@ void synth(SynthArgs a) {
 void add_synth_commands(CLI::App& app) {
   static SynthArgs a;
   CLI::App* cmd = app.add_subcommand(
-      "synth", "Render a marker clip of the default head with exact ground-truth tracks");
+      "synth", "Render a clip of the default head (with markers or bare) with exact ground truth");
   cmd->add_option("-o,--output", a.output,
                   "path prefix: writes PREFIX.mp4, .truth.csv, .fap, .intrinsics.yml")
       ->required();
   cmd->add_option("--fap", a.fap, "FAP stream driving the face (default: a range-of-motion clip)");
   cmd->add_option("--layout", a.layout, "marker layout JSON (default data/layouts/default.json)");
+  cmd->add_flag("--no-markers", a.no_markers,
+                "render the head bare (for --markerless); the truth is its feature points "
+                "that the iBUG landmarks name");
   cmd->add_option("--seconds", a.seconds, "cut the clip to this length");
   cmd->add_option("--neutral-lead", a.neutral_lead,
                   "seconds of neutral face before the motion, for calibration by rostro capture");
@@ -120,7 +139,9 @@ void add_synth_commands(CLI::App& app) {
       "Example:\n  rostro synth -o clips/turn --yaw 25 --pitch 15 --noise 3 --seed 7\n"
       "  rostro synth -o clips/nod --neutral-lead 1 --head-yaw 25 --head-pitch 15\n"
       "  rostro track clips/turn.mp4 -o turn.tracks.csv   # then\n"
-      "  rostro eval tracks --truth clips/turn.truth.csv --tracks turn.tracks.csv");
+      "  rostro eval tracks --truth clips/turn.truth.csv --tracks turn.tracks.csv\n"
+      "  rostro synth -o clips/bare --no-markers --neutral-lead 1 --seconds 4\n"
+      "  rostro capture clips/bare.mp4 --markerless -o bare.fap");
   cmd->callback([] { synth(a); });
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "apps/commands.hpp"
+#include "apps/face_trackers.hpp"
 #include "apps/progress.hpp"
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
@@ -26,7 +27,7 @@ namespace {
 
 struct TrackArgs {
   std::string source;
-  std::string layout;
+  FaceTrackerArgs face;
   std::string output;
   std::string overlay;
   std::string start;  // starting positions (tracks CSV) instead of identification
@@ -36,19 +37,32 @@ struct TrackArgs {
   std::string polarity;  // overrides the layout's
 };
 
-void run_track(const TrackArgs& args) {
-  tracking::MarkerLayout layout = tracking::load_layout(
-      args.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(args.layout));
+// The marker tracker with track's own options (polarity, starting positions), or the
+// landmark tracker.
+std::unique_ptr<tracking::FaceTracker> make_tracker(const TrackArgs& args) {
+  if (args.face.markerless) {
+    if (!args.start.empty() || !args.polarity.empty())
+      throw CLI::ValidationError("--markerless", "--start and --polarity are for markers");
+    return args.face.make();
+  }
+  tracking::MarkerLayout layout =
+      tracking::load_layout(args.face.layout.empty() ? tracking::default_layout_path()
+                                                     : std::filesystem::path(args.face.layout));
   if (args.polarity == "dark") layout.polarity = tracking::DotPolarity::Dark;
   if (args.polarity == "bright") layout.polarity = tracking::DotPolarity::Bright;
+  auto tracker = std::make_unique<tracking::MarkerTracker>(layout, args.options);
+  if (!args.start.empty())
+    tracker->set_start_positions(tracking::read_start_positions(args.start, tracker->layout()));
+  return tracker;
+}
+
+void run_track(const TrackArgs& args) {
+  const std::unique_ptr<tracking::FaceTracker> tracker = make_tracker(args);
+  const tracking::MarkerLayout& layout = tracker->layout();
 
   capture::SourceOptions source_options;
   source_options.fps = args.fps;
   auto source = capture::open_frame_source(args.source, source_options);
-
-  tracking::MarkerTracker tracker(layout, args.options);
-  if (!args.start.empty())
-    tracker.set_start_positions(tracking::read_start_positions(args.start, layout));
 
   tracking::TracksWriter writer(args.output);
   // The overlay is written beside its destination under a temporary name (keeping the
@@ -81,13 +95,13 @@ void run_track(const TrackArgs& args) {
   while (args.max_frames <= 0 || frame < args.max_frames) {
     auto f = source->next();
     if (!f) break;
-    const tracking::TrackedFrame tracked = tracker.track(f->image, frame, f->timestamp_s);
+    const tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
     writer.write(tracked);
-    if (!tracker.started()) ++never_started;
+    if (!tracker->started()) ++never_started;
     for (const auto& m : tracked.markers) valid_sum += m.valid, ++marker_sum;
     if (overlay.isOpened()) {
       cv::Mat image = f->image.clone();
-      tracking::draw_overlay(image, tracker.states(), frame);
+      tracker->draw(image, frame);
       overlay.write(image);
     }
     ++frame;
@@ -95,6 +109,12 @@ void run_track(const TrackArgs& args) {
   }
   progress.finish();
   if (frame == 0) throw InputError(args.source + ": no frames to track");
+  // A bare face that never shows gives no tracks at all: nothing is written.
+  if (args.face.markerless && never_started == frame)
+    throw InputError(args.source + ": no face found in any of its " + std::to_string(frame) +
+                     " frames (faces narrower than " +
+                     std::to_string(static_cast<int>(args.face.landmarks.min_face_px)) +
+                     " px are not searched for)");
   writer.finish();
   if (overlay.isOpened()) {
     overlay.release();
@@ -110,7 +130,7 @@ void run_track(const TrackArgs& args) {
       static_cast<long>(layout.markers.size()),
       marker_sum ? 100.0 * static_cast<double>(valid_sum) / static_cast<double>(marker_sum) : 0.0,
       static_cast<long>(stats.dropped));
-  if (never_started == frame)
+  if (never_started == frame && !args.face.markerless)
     std::fprintf(stderr,
                  "rostro: warning: the markers were never identified (fewer than %d found); "
                  "check --layout, the dot size options or give --start\n",
@@ -123,11 +143,10 @@ void add_track_commands(CLI::App& app) {
   static TrackArgs args;
   CLI::App* cmd = app.add_subcommand(
       "track",
-      "Track the layout's dot markers and AprilTags through a video and write the tracks CSV");
+      "Track markers (dots, AprilTags) or a bare face's landmarks and write the tracks CSV");
   cmd->add_option("SOURCE", args.source, "Video file, image folder, /dev/videoN or libcamera:N")
       ->required();
-  cmd->add_option("--layout", args.layout,
-                  "Marker layout JSON (default: data/layouts/default.json)");
+  args.face.add_options(cmd, false);
   cmd->add_option("-o,--output", args.output,
                   "Tracks CSV to write (frame,time_s,marker,fp,x,y,valid,quality)")
       ->required();
@@ -159,13 +178,17 @@ void add_track_commands(CLI::App& app) {
                   "Largest forward-backward LK error (pixels) before a dot is flagged invalid")
       ->check(CLI::PositiveNumber);
   cmd->footer(
-      "The take should start with the face frontal and every marker visible: the markers are\n"
+      "Markers: the take should start with the face frontal and every marker visible: they are\n"
       "identified on the first frames with no clicks (tags first, then the dots by the layout's\n"
       "geometry). Markers that are hidden or fail the checks are written with valid=0 and come\n"
-      "back with their own identity when they reappear.\n\n"
-      "Example:\n"
+      "back with their own identity when they reappear.\n"
+      "--markerless: the largest face (or --face N) is found by dlib's face detector and its 68\n"
+      "landmarks are written under their MPEG-4 feature points; frames without a face are\n"
+      "written invalid, and a clip with no face at all is an error.\n\n"
+      "Examples:\n"
       "  rostro track take.mp4 --layout data/layouts/default.json -o take.tracks.csv --overlay "
-      "take.overlay.mp4");
+      "take.overlay.mp4\n"
+      "  rostro track face.mp4 --markerless -o face.tracks.csv --overlay face.overlay.mp4");
   cmd->callback([] { run_track(args); });
 }
 

@@ -118,7 +118,10 @@ struct Pipeline::Impl {
 
   // Processing thread state.
   calib::ActorPrior prior;
-  std::unique_ptr<tracking::MarkerTracker> tracker;
+  std::unique_ptr<tracking::FaceTracker> tracker;
+  std::unique_ptr<tracking::FaceTracker> new_tracker() const {
+    return o.make_tracker ? o.make_tracker() : std::make_unique<tracking::MarkerTracker>(o.layout);
+  }
   std::unique_ptr<mapping::FapMapper> mapper;
   std::vector<tracking::TrackedFrame> neutral;
   bool calibrating = false;
@@ -191,7 +194,7 @@ void Pipeline::Impl::finish_calibration() {
       o.intrinsics ? *o.intrinsics : calib::default_intrinsics(size);
   try {
     calib::ActorProfile profile = calib::calibrate_actor(
-        neutral, camera, calib::actor_calibration_options(o.layout, prior, "live actor"));
+        neutral, camera, calib::actor_calibration_options(tracker->layout(), prior, "live actor"));
     mapper = mapping::make_fap_mapper(profile, o.mapper);
     calibrating = false;
     log(fmt::format("calibrated the actor from {} frames ({:.1f} s), assumed neutral{}",
@@ -247,7 +250,7 @@ void Pipeline::Impl::record(const FapFrame& faps, std::int64_t sequence) {
 
 void Pipeline::Impl::process(Captured& c) {
   if (want_reset.exchange(false)) {
-    tracker = std::make_unique<tracking::MarkerTracker>(o.layout);
+    tracker = new_tracker();
     log("tracking reset: identifying the markers again");
   }
   if (want_calibration.exchange(false)) {
@@ -405,7 +408,7 @@ Pipeline::Pipeline(PipelineOptions options) : impl_(std::make_unique<Impl>()) {
   if (m.o.vmc) m.vmc = std::make_unique<VmcSender>(ArkitMapping::load_default(), *m.o.vmc);
   if (m.o.fap_udp)
     m.udp = std::make_unique<FapUdpSender>(m.o.fap_udp->host, m.o.fap_udp->port, m.fps);
-  m.tracker = std::make_unique<tracking::MarkerTracker>(m.o.layout);
+  m.tracker = m.new_tracker();
   m.report.source = m.source->description();
   if (m.o.actor) {
     calib::ActorProfile profile = *m.o.actor;

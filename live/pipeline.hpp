@@ -26,6 +26,7 @@
 #include "live/latency_stats.hpp"
 #include "live/vmc_sender.hpp"
 #include "mapping/fap_mapper.hpp"
+#include "tracking/face_tracker.hpp"
 #include "tracking/layout.hpp"
 
 namespace rostro::live {
@@ -42,6 +43,9 @@ struct PipelineOptions {
   std::string camera;  // /dev/videoN, libcamera:N, a video file or an image folder
   capture::SourceOptions source;
   tracking::MarkerLayout layout;
+  // Makes the face tracker (again after a reset); empty: a MarkerTracker on `layout`. A
+  // LandmarkTracker here tracks a bare face; its layout() then replaces `layout`.
+  std::function<std::unique_ptr<tracking::FaceTracker>()> make_tracker;
   std::optional<calib::ActorProfile> actor;           // none: calibrate from the first frames
   std::optional<calib::CameraIntrinsics> intrinsics;  // none: the profile's, else a default
   double calibration_seconds = 1.0;

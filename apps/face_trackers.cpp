@@ -1,0 +1,57 @@
+#include "apps/face_trackers.hpp"
+
+#include <filesystem>
+
+#include "calib/actor_prior.hpp"
+#include "tracking/ibug_mapping.hpp"
+#include "tracking/layout.hpp"
+
+namespace rostro::app {
+
+void FaceTrackerArgs::add_options(CLI::App* cmd, bool required) {
+  layout_required = required;
+  cmd->add_option("--layout", layout,
+                  required ? "Marker layout JSON (not with --markerless)"
+                           : "Marker layout JSON (default: data/layouts/default.json)");
+  cmd->add_flag("--markerless", markerless,
+                "Track a bare face: 68 landmarks from dlib's model instead of worn markers");
+  cmd->add_option("--landmark-model", landmarks.model,
+                  "dlib 68-point shape predictor (default: " +
+                      tracking::default_landmark_model().string() + ", Debian's libdlib-data)");
+  cmd->add_option("--face", landmarks.face_rank,
+                  "With --markerless and several faces in view: 1 the largest, 2 the next, ...")
+      ->check(CLI::PositiveNumber);
+}
+
+namespace {
+
+void check_choice(const FaceTrackerArgs& a) {
+  if (a.markerless && !a.layout.empty())
+    throw CLI::ValidationError("--layout", "a marker layout and --markerless exclude each other");
+  if (!a.markerless && a.layout.empty() && a.layout_required)
+    throw CLI::ValidationError("--layout", "give a marker layout (--layout FILE) or --markerless");
+}
+
+}  // namespace
+
+std::unique_ptr<tracking::FaceTracker> FaceTrackerArgs::make(
+    const tracking::TrackerOptions& marker_options) const {
+  check_choice(*this);
+  // The default head's feature points place the landmarks for calibration, as they place
+  // markers on feature points.
+  if (markerless)
+    return std::make_unique<tracking::LandmarkTracker>(tracking::default_ibug_mapping(),
+                                                       calib::load_actor_prior().points, landmarks);
+  return std::make_unique<tracking::MarkerTracker>(make_layout(), marker_options);
+}
+
+tracking::MarkerLayout FaceTrackerArgs::make_layout() const {
+  check_choice(*this);
+  if (markerless)
+    return tracking::landmark_layout(tracking::default_ibug_mapping(),
+                                     calib::load_actor_prior().points);
+  return tracking::load_layout(layout.empty() ? tracking::default_layout_path()
+                                              : std::filesystem::path(layout));
+}
+
+}  // namespace rostro::app

@@ -1,0 +1,35 @@
+#pragma once
+// The tracker options every face-tracking command shares (track, calibrate actor, capture,
+// live, eval loop): a marker layout, or --markerless with its landmark model, and the tracker
+// they make. Wiring only: the trackers are tracking/'s.
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+
+#include "tracking/face_tracker.hpp"
+#include "tracking/landmark_tracker.hpp"
+#include "tracking/marker_tracker.hpp"
+
+namespace rostro::app {
+
+struct FaceTrackerArgs {
+  std::string layout;  // marker layout JSON; empty: the default one (or none with markerless)
+  bool layout_required = true;  // without --markerless, --layout must be given
+  bool markerless = false;
+  tracking::LandmarkTrackerOptions landmarks;
+
+  // --layout (required unless --markerless when `required`), --markerless, --landmark-model,
+  // --face.
+  void add_options(CLI::App* cmd, bool required);
+  // A MarkerTracker on the layout, or a LandmarkTracker. Throws CLI::ValidationError when
+  // a required --layout is missing or given with --markerless, InputError for a bad layout or
+  // landmark model.
+  std::unique_ptr<tracking::FaceTracker> make(
+      const tracking::TrackerOptions& marker_options = {}) const;
+  // The layout make()'s tracker would have, without loading a landmark model: for tracks
+  // that come from a CSV.
+  tracking::MarkerLayout make_layout() const;
+};
+
+}  // namespace rostro::app
