@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -129,6 +130,8 @@ TEST_F(BareHead, FindsTheHeadOnEveryFrameOfTheRangeOfMotion) {
       errors.push_back(cv::norm(moved - truly) / eyes);
     }
   std::sort(errors.begin(), errors.end());
+  std::printf("range of motion: landmark motion off by %.4f (median), %.4f (90th) eye distances\n",
+              errors[errors.size() / 2], errors[errors.size() * 9 / 10]);
   EXPECT_LT(errors[errors.size() / 2], 0.02) << "eye distance " << eyes << " px";
   EXPECT_LT(errors[errors.size() * 9 / 10], 0.05);
 }
@@ -155,6 +158,7 @@ TEST_F(BareHead, StillFaceJitterStaysUnderAThirdOfAPixel) {
     return mean_jitter(reported);
   };
   const double stabilised = run(true), raw = run(false);
+  std::printf("still face, noise 2: jitter %.3f px stabilised, %.3f px raw\n", stabilised, raw);
   EXPECT_LE(stabilised, 0.3) << "raw " << raw;
   EXPECT_LT(stabilised, raw / 3);  // the stabiliser does the work
 }
@@ -184,6 +188,8 @@ TEST_F(BareHead, FastJawOpeningLagsAtMostOneFrame) {
       if (y[f] - before > (after - before) / 2) return static_cast<long>(f);
     return -1L;
   };
+  std::printf("fast jaw: the stabilised chin passes half way %ld frame(s) after the raw fit\n",
+              half_way(filtered_y) - half_way(raw_y));
   EXPECT_LE(half_way(filtered_y) - half_way(raw_y), 1);
   // And it settles: within 0.5 px of the raw fit ten frames after the jaw stops.
   EXPECT_NEAR(filtered_y[40], raw_y[40], 0.5);
@@ -255,6 +261,8 @@ TEST_F(RealFace, FollowsASmoothWarpLateStartAndExit) {
   // dlib's model on a 300-W face scores about 0.05 of the eye distance; a face lost or drifting
   // is past 0.1.
   const double eyes = cv::norm(first[36] - first[45]);
+  std::printf("real photo warped: median %.2f px off the warp, %.3f of the eye distance\n",
+              errors[errors.size() / 2], errors[errors.size() / 2] / eyes);
   EXPECT_LT(errors[errors.size() / 2] / eyes, 0.06)
       << errors[errors.size() / 2] << " px of " << eyes;
   // The face leaves: the frame it is gone is invalid.
