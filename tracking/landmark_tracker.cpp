@@ -1,6 +1,7 @@
 #include "tracking/landmark_tracker.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -21,16 +22,23 @@ cv::Point2d centre(const cv::Rect2d& r) {
   return {r.x + r.width / 2, r.y + r.height / 2};
 }
 
-cv::Rect2d bounding_box(const std::vector<cv::Point2d>& points) {
-  double x0 = points[0].x, y0 = points[0].y, x1 = x0, y1 = y0;
-  for (const cv::Point2d& p : points) {
+// iBUG 0-based indices of the nose (27-35) and the eye corners: the part of the face that
+// expressions do not move. The box is placed by these alone: placed by all 68, an opened jaw
+// moved it down, and a jaw closed again within the box's deadband left it there; placed with
+// the lids, a blink moved it.
+constexpr std::array<int, 13> kRigid = {27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 39, 42, 45};
+
+cv::Rect2d rigid_box(const std::vector<cv::Point2d>& points) {
+  double x0 = points[27].x, y0 = points[27].y, x1 = x0, y1 = y0;
+  for (int i : kRigid) {
+    const cv::Point2d& p = points[static_cast<std::size_t>(i)];
     x0 = std::min(x0, p.x), y0 = std::min(y0, p.y);
     x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
   }
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
-// Where the detector's box lies against the landmarks' bounding box, in units of that box:
+// Where the detector's box lies against the rigid points' bounding box, in units of that box:
 // kept from the detection that found the face, so that the boxes later made from landmarks
 // are boxes like those the shape predictor was trained on (the detector's), without the
 // detector's own jitter (its boxes step by its 8-pixel cells).
@@ -165,7 +173,7 @@ struct LandmarkTracker::Impl {
       box = from_landmarks;
   }
 
-  void fit(const cv::Rect2d& box) { raw = model.fit(gray, box); }
+  void fit(const cv::Rect2d& around) { raw = model.fit(gray, around); }
 
   void lose() {
     following = false;
@@ -179,7 +187,7 @@ struct LandmarkTracker::Impl {
     if (following) {
       if (const auto again = find_again(*box)) {
         confidence = again->confidence;
-        move_box(relation.apply(bounding_box(smoothed)), again->box);
+        move_box(relation.apply(rigid_box(smoothed)), again->box);
         return true;
       }
       lose();
@@ -190,7 +198,7 @@ struct LandmarkTracker::Impl {
     following = started = true;
     box = found->box;
     fit(*box);
-    relation = BoxRelation::between(*box, bounding_box(raw));
+    relation = BoxRelation::between(*box, rigid_box(raw));
     return true;
   }
 
