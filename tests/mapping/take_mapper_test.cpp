@@ -117,3 +117,41 @@ TEST_F(TakeMapperTest, EmptyTakeWithoutProfileIsAnInputError) {
 
 }  // namespace
 }  // namespace rostro
+
+namespace rostro {
+namespace {
+
+// Frames whose every observation is invalid: before the face is found, and while it is lost.
+tracking::TrackedFrame nothing_seen(tracking::TrackedFrame f) {
+  for (auto& m : f.markers) m.valid = false;
+  return f;
+}
+
+TEST_F(TakeMapperTest, CalibrationWindowStartsWithTheFaceAndLostFramesCarryNoFaps) {
+  auto frames = take(actor, 20, 10);
+  // The face is found only at frame 5 (a late start), and lost for frames 25-26.
+  for (long i : {0, 1, 2, 3, 4, 25, 26})
+    frames[static_cast<std::size_t>(i)] = nothing_seen(frames[static_cast<std::size_t>(i)]);
+  mapping::MapperOptions options;
+  mapping::TakeMapper mapper(layout, options, actor.camera, std::nullopt, 10);
+  const Collected c = run(mapper, frames);
+  expect_every_frame_once_in_order(c, frames);
+  // Calibrated on ten frames with the face (5-14), so the mapper waited for frame 14.
+  EXPECT_EQ(mapper.calibration_frames_used(), 10);
+  EXPECT_EQ(c.ready_after.front(), 15);
+  for (long i : {0L, 1L, 25L, 26L})
+    EXPECT_FALSE(c.frames[static_cast<std::size_t>(i)].mask.any()) << "frame " << i;
+  EXPECT_TRUE(c.frames[27].has(kOpenJaw));
+  EXPECT_GT(c.frames[29].get(kOpenJaw), 100);
+}
+
+TEST_F(TakeMapperTest, ATakeWithNothingSeenIsOneInputError) {
+  auto frames = take(actor, 5, 0);
+  for (auto& f : frames) f = nothing_seen(f);
+  mapping::TakeMapper mapper(layout, {}, actor.camera, std::nullopt, 10);
+  for (const auto& f : frames) EXPECT_TRUE(mapper.push(f).empty());
+  EXPECT_THROW(mapper.finish(), InputError);
+}
+
+}  // namespace
+}  // namespace rostro
