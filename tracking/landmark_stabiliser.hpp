@@ -25,16 +25,22 @@ struct StabiliserOptions {
 class LandmarkStabiliser {
  public:
   explicit LandmarkStabiliser(StabiliserOptions options = {});
-  // `fit`: this frame's fitted points on the 8-bit grey `gray`; `eyes`: the eye distance in
-  // pixels. The first call after construction or reset() returns `fit` unchanged.
-  std::vector<cv::Point2d> update(const cv::Mat& gray, const std::vector<cv::Point2d>& fit,
-                                  double eyes);
-  void reset() { previous_.clear(); }
+  // Carries the last blended points into the 8-bit grey `gray` by the flow (the face's
+  // motion: one similarity through the flow of every point), `eyes` the eye distance in
+  // pixels. Returns the share of points that moved with the face (found by the flow and within
+  // 0.02 eye distances of that motion): near 1 while the face is in view, low when it is
+  // covered or gone, 0 with nothing to carry (the first frame, after reset()).
+  double predict(const cv::Mat& gray, double eyes);
+  // This frame's fitted points pulled from the prediction toward `fit` (see above); `fit`
+  // itself when predict() carried nothing. Keeps `gray` and the result for the next frame.
+  std::vector<cv::Point2d> blend(const cv::Mat& gray, const std::vector<cv::Point2d>& fit,
+                                 double eyes);
+  void reset() { previous_.clear(), predicted_.clear(); }
 
  private:
   StabiliserOptions options_;
   cv::Mat previous_gray_;
-  std::vector<cv::Point2d> previous_;
+  std::vector<cv::Point2d> previous_, predicted_;
 };
 
 }  // namespace rostro::tracking

@@ -18,6 +18,10 @@ constexpr int kLandmarks = LandmarkModel::kLandmarks;
 // iBUG 0-based indices of the outer eye corners: the eye distance is the stabiliser's unit.
 constexpr int kRightEyeOuter = 36, kLeftEyeOuter = 45;
 
+double eye_distance(const std::vector<cv::Point2d>& landmarks) {
+  return cv::norm(landmarks[kRightEyeOuter] - landmarks[kLeftEyeOuter]);
+}
+
 cv::Point2d centre(const cv::Rect2d& r) {
   return {r.x + r.width / 2, r.y + r.height / 2};
 }
@@ -80,6 +84,12 @@ void LandmarkTrackerOptions::validate() const {
   if (!(box_deadband >= 0 && box_deadband < 1))
     throw InputError("landmark tracker: the box deadband is a share of the face in [0, 1), not " +
                      std::to_string(box_deadband));
+  if (check_every < 1)
+    throw InputError("landmark tracker: the detector looks again every 1 or more frames, not " +
+                     std::to_string(check_every));
+  if (!(min_flow_agreement >= 0 && min_flow_agreement <= 1))
+    throw InputError("landmark tracker: the flow agreement is a share in [0, 1], not " +
+                     std::to_string(min_flow_agreement));
   if (!std::isfinite(follow_threshold))
     throw InputError("landmark tracker: the detector threshold must be finite");
   stabiliser.validate();
@@ -96,6 +106,7 @@ struct LandmarkTracker::Impl {
   std::optional<cv::Rect2d> box;  // the box the followed face's landmarks are fitted in
   BoxRelation relation;
   double confidence = 0;  // the detector's score when the face was last found or checked
+  int since_check = 0;    // frames since the detector last looked
   long searches = 0;
   std::vector<cv::Point2d> raw, smoothed;
   LandmarkStabiliser stabiliser{options.stabiliser};
@@ -162,13 +173,13 @@ struct LandmarkTracker::Impl {
   // face keeps one box, and the fit's noise is not fed back into the next frame's box. Fit
   // and box can carry each other away (the fit leans toward its box); where the box parts
   // from the detector's by more than box_anchor, the detector's is taken instead.
-  void move_box(const cv::Rect2d& from_landmarks, const cv::Rect2d& detected) {
+  void move_box(const cv::Rect2d& from_landmarks, const std::optional<cv::Rect2d>& detected) {
     const auto apart = [](const cv::Rect2d& a, const cv::Rect2d& b) {
       return std::max(cv::norm(centre(a) - centre(b)) / b.width,
                       std::abs(std::log(a.width / b.width)));
     };
-    if (apart(from_landmarks, detected) > options.box_anchor)
-      box = detected;
+    if (detected && apart(from_landmarks, *detected) > options.box_anchor)
+      box = *detected;
     else if (apart(from_landmarks, *box) > options.box_deadband)
       box = from_landmarks;
   }
@@ -185,6 +196,14 @@ struct LandmarkTracker::Impl {
   // Steps 1-3 for this frame: whether a face is there, and its box.
   bool find_face() {
     if (following) {
+      // The flow tells, every frame and nearly for free, whether the face moved as one; the
+      // detector looks again every check_every frames, and at once when the flow disagrees.
+      const double moved_as_one = stabiliser.predict(gray, eye_distance(smoothed));
+      if (++since_check < options.check_every && moved_as_one >= options.min_flow_agreement) {
+        move_box(relation.apply(rigid_box(smoothed)), std::nullopt);
+        return true;
+      }
+      since_check = 0;
       if (const auto again = find_again(*box)) {
         confidence = again->confidence;
         move_box(relation.apply(rigid_box(smoothed)), again->box);
@@ -196,6 +215,7 @@ struct LandmarkTracker::Impl {
     if (!found) return false;
     confidence = found->confidence;
     following = started = true;
+    since_check = 0;
     box = found->box;
     fit(*box);
     relation = BoxRelation::between(*box, rigid_box(raw));
@@ -217,7 +237,7 @@ struct LandmarkTracker::Impl {
     const bool face = find_face();
     if (face) {
       fit(*box);
-      stabilise(time_s);
+      stabilise();
     }
     const cv::Rect2d inside(0, 0, gray.cols, gray.rows);
     for (std::size_t k = 0; k < mapping.markers.size(); ++k) {
@@ -240,13 +260,9 @@ struct LandmarkTracker::Impl {
   }
 
   // Step 4: optical flow blended with the fit.
-  void stabilise(double time_s) {
-    if (!options.stabilise) {
-      smoothed = raw;
-      return;
-    }
-    (void)time_s;
-    smoothed = stabiliser.update(gray, raw, cv::norm(raw[kRightEyeOuter] - raw[kLeftEyeOuter]));
+  void stabilise() {
+    const std::vector<cv::Point2d> blended = stabiliser.blend(gray, raw, eye_distance(raw));
+    smoothed = options.stabilise ? blended : raw;
   }
 };
 

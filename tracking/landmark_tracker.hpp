@@ -7,16 +7,18 @@
 //  1. find the face: while none is followed, dlib's HOG frontal face detector searches the
 //     whole image (scaled so that a face of min_face_px is the detector's 80 px window); with
 //     several faces the face_rank-th largest is taken;
-//  2. find it again: while a face is followed, the detector looks only in a window twice the
-//     face's size around where it was, at its scale, so a frame costs a small search and one
-//     shape fit, not a whole-image search; no face there ends the following and the whole
-//     image is searched on the same frame;
+//  2. check it is still there: while a face is followed, optical flow carries its last
+//     landmarks into the frame, and the share of them that move as one face (a similarity)
+//     is the check on every frame; every check_every frames, and on any frame where too few
+//     move as one, the detector looks again in a window twice the face's size around it, at
+//     its scale. No face there ends the following and the whole image is searched on the same
+//     frame. A frame so costs the flow and one shape fit, not an image search;
 //  3. place the box: it follows the last frame's landmarks (in the relation the detector's box
 //     had to them when the face was found) once they have moved it by a twentieth of the face
 //     (box_deadband), so a still face keeps one box; and it is the detector's box whenever
 //     it parts from that by more than box_anchor;
-//  4. fit the 68 landmarks in the box to sub-pixel precision, and steady them with optical
-//     flow (tracking/landmark_stabiliser.hpp).
+//  4. fit the 68 landmarks in the box to sub-pixel precision, and steady them by blending
+//     them with the flow's carried points (tracking/landmark_stabiliser.hpp).
 // A frame with no face has every observation invalid: nothing is guessed, and the take goes
 // on until the face is found again.
 
@@ -38,9 +40,15 @@ struct LandmarkTrackerOptions {
   std::filesystem::path model;
   int face_rank = 1;         // with several faces in view: 1 the largest, 2 the next, ...
   double min_face_px = 100;  // smallest face width (pixels) the whole-image search finds
-  // Detector score (dlib's adjust_threshold) a followed face must reach on each frame; below
-  // 0 accepts weaker faces than a first detection needs (a turned or expressive face).
+  // Detector score (dlib's adjust_threshold) a followed face must reach when the detector
+  // looks again; below 0 accepts weaker faces than a first detection needs (a turned or
+  // expressive face).
   double follow_threshold = -0.5;
+  // The detector looks again every this many frames while the optical flow says the face
+  // moves as one, and on any frame where less than min_flow_agreement of its points do (a
+  // face covered, turned away or gone).
+  int check_every = 10;
+  double min_flow_agreement = 0.6;
   // The box a followed face is fitted in moves with its landmarks only once they have moved
   // it by this share of its width (or grown it by this share): a still face keeps one box.
   double box_deadband = 0.05;

@@ -191,8 +191,12 @@ TEST_F(BareHead, FastJawOpeningLagsAtMostOneFrame) {
   std::printf("fast jaw: the stabilised chin passes half way %ld frame(s) after the raw fit\n",
               half_way(filtered_y) - half_way(raw_y));
   EXPECT_LE(half_way(filtered_y) - half_way(raw_y), 1);
-  // And it settles: within 0.5 px of the raw fit ten frames after the jaw stops.
-  EXPECT_NEAR(filtered_y[40], raw_y[40], 0.5);
+  // And it settles where the fit is: over the last ten frames, once the jaw has stopped, the
+  // two agree within half a pixel on average (one raw frame alone jitters by more).
+  double filtered_mean = 0, raw_mean = 0;
+  for (std::size_t f = 40; f < 50; ++f)
+    filtered_mean += filtered_y[f] / 10, raw_mean += raw_y[f] / 10;
+  EXPECT_NEAR(filtered_mean, raw_mean, 0.5);
 }
 
 // A real photograph moved by a smooth warp (a sub-pixel translation and slight zoom),
