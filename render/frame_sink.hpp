@@ -1,11 +1,13 @@
 #pragma once
-// Where rendered frames go: an mp4 (VideoWriter) or a folder of PNGs (FrameFolderWriter).
+// Where rendered frames go: an mp4 (VideoWriter), a folder of PNGs (FrameFolderWriter) or
+// memory (MemoryFrameSink).
 // Both write under a temporary name and put the result in place only on finish(), so an
 // interrupted run never leaves a half-written video or a partial frame folder behind.
 
 #include <filesystem>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace rostro::render {
 
@@ -17,6 +19,15 @@ class FrameSink {
   // Completes the output and moves it into place. Without it the output is discarded.
   virtual void finish() = 0;
   virtual long frames_written() const = 0;
+};
+
+// Keeps every frame in memory (tests and benchmarks that look at the pixels).
+class MemoryFrameSink : public FrameSink {
+ public:
+  void write(const cv::Mat& bgr) override { frames.push_back(bgr.clone()); }
+  void finish() override {}
+  long frames_written() const override { return static_cast<long>(frames.size()); }
+  std::vector<cv::Mat> frames;
 };
 
 // Writes `frame_000000.png`, `frame_000001.png`, ... into `folder` (created if needed;

@@ -23,17 +23,6 @@ struct BareClip {
   FeaturePointPositions neutral;
 };
 
-class MemorySink : public render::FrameSink {
- public:
-  explicit MemorySink(std::vector<cv::Mat>& out) : out_(out) {}
-  void write(const cv::Mat& bgr) override { out_.push_back(bgr.clone()); }
-  void finish() override {}
-  long frames_written() const override { return static_cast<long>(out_.size()); }
-
- private:
-  std::vector<cv::Mat>& out_;
-};
-
 const BareClip& clip(int width, int height) {
   static std::map<int, BareClip> clips;
   auto [at, made] = clips.try_emplace(width);
@@ -48,8 +37,9 @@ const BareClip& clip(int width, int height) {
     o.width = width;
     o.height = height;
     o.noise_sigma = 2;
-    MemorySink sink(at->second.frames);
+    render::MemoryFrameSink sink;
     eval::synthesize(model, nullptr, eval::place_markers(model, layout), drive, o, sink);
+    at->second.frames = std::move(sink.frames);
     at->second.neutral = model.feature_point_positions();
   }
   return at->second;

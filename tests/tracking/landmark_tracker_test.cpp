@@ -24,14 +24,6 @@ namespace {
 
 const std::filesystem::path kFaces = std::filesystem::path(ROSTRO_SHARED_DIR) / "fixtures/faces";
 
-class MemorySink : public render::FrameSink {
- public:
-  void write(const cv::Mat& bgr) override { frames.push_back(bgr.clone()); }
-  void finish() override {}
-  long frames_written() const override { return static_cast<long>(frames.size()); }
-  std::vector<cv::Mat> frames;
-};
-
 bool have_model() {
   return std::filesystem::exists(default_landmark_model());
 }
@@ -67,7 +59,7 @@ class BareHead : public ::testing::Test {
   // Renders `drive` bare; skips without OpenGL.
   std::vector<cv::Mat> render(const FapStream& drive, const eval::SynthOptions& o,
                               eval::SynthResult* truth = nullptr) {
-    MemorySink sink;
+    render::MemoryFrameSink sink;
     try {
       eval::SynthResult r =
           eval::synthesize(model, nullptr, eval::place_markers(model, layout), drive, o, sink);
