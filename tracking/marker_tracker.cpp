@@ -219,85 +219,117 @@ struct MarkerTracker::Impl {
     ensure_gray({0, 0, gray.cols, gray.rows});
     std::vector<TagDetection> tags =
         layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
-    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;  // frontal -> image
-    if (!start_positions.empty()) {
-      for (MarkerState& s : states) {
-        s.valid = false;
-        auto it = start_positions.find(s.spec->id);
-        if (it == start_positions.end()) continue;
-        if (s.spec->is_tag()) {
-          for (const TagDetection& t : tags)
-            if (t.marker_id() == s.spec->id && cv::norm(t.center - it->second) < 20)
-              s.valid = true, s.corners = t.corners, s.position = t.center;
-        } else if (auto d = refine_dot(gray, it->second, 3,
-                                       dot_options(static_cast<size_t>(&s - states.data())))) {
-          s.valid = true, s.position = d->center;
-        }
-        if (s.valid) known.push_back({s.spec->frontal(), s.position});
-      }
-    } else {
-      auto dots = detect_dots(gray, centroid_dots);
-      Identification id = identify_markers(layout, dots, tags);
-      for (MarkerState& s : states) {
-        s.valid = false;
-        if (s.spec->is_tag()) {
-          auto it = id.tags.find(s.spec->id);
-          if (it != id.tags.end())
-            s.valid = true, s.corners = it->second.corners, s.position = it->second.center;
-        } else {
-          auto it = id.dots.find(s.spec->id);
-          if (it != id.dots.end()) s.valid = true, s.position = it->second.center;
-        }
-        if (s.valid) known.push_back({s.spec->frontal(), s.position});
-      }
-    }
+    const std::vector<std::pair<cv::Point2d, cv::Point2d>> known =
+        start_positions.empty() ? identify(tags) : find_at_start_positions(tags);
     if (static_cast<int>(known.size()) < std::max(3, options.min_identified)) {
       for (MarkerState& s : states) s.valid = false;
       return;
     }
+    place_unseen(known);
+    scale_to_dots(measure_seen());
+    measure_spacing();
+    started = true;
+  }
 
-    // Where the unseen markers should be: the layout mapped by the seen ones.
+  // The markers found where the file of starting positions puts them (within a few pixels), as
+  // frontal layout position -> image position.
+  std::vector<std::pair<cv::Point2d, cv::Point2d>> find_at_start_positions(
+      const std::vector<TagDetection>& tags) {
+    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
+    for (MarkerState& s : states) {
+      s.valid = false;
+      auto it = start_positions.find(s.spec->id);
+      if (it == start_positions.end()) continue;
+      if (s.spec->is_tag()) {
+        for (const TagDetection& t : tags)
+          if (t.marker_id() == s.spec->id && cv::norm(t.center - it->second) < 20)
+            s.valid = true, s.corners = t.corners, s.position = t.center;
+      } else if (auto d = refine_dot(gray, it->second, 3,
+                                     dot_options(static_cast<size_t>(&s - states.data())))) {
+        s.valid = true, s.position = d->center;
+      }
+      if (s.valid) known.push_back({s.spec->frontal(), s.position});
+    }
+    return known;
+  }
+
+  // Every dot and tag in the frame, identified (identify.hpp).
+  std::vector<std::pair<cv::Point2d, cv::Point2d>> identify(const std::vector<TagDetection>& tags) {
+    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
+    auto dots = detect_dots(gray, centroid_dots);
+    Identification id = identify_markers(layout, dots, tags);
+    for (MarkerState& s : states) {
+      s.valid = false;
+      if (s.spec->is_tag()) {
+        auto it = id.tags.find(s.spec->id);
+        if (it != id.tags.end())
+          s.valid = true, s.corners = it->second.corners, s.position = it->second.center;
+      } else {
+        auto it = id.dots.find(s.spec->id);
+        if (it != id.dots.end()) s.valid = true, s.position = it->second.center;
+      }
+      if (s.valid) known.push_back({s.spec->frontal(), s.position});
+    }
+    return known;
+  }
+
+  // Where the unseen markers should be: the layout mapped by the seen ones.
+  void place_unseen(const std::vector<std::pair<cv::Point2d, cv::Point2d>>& known) {
     std::vector<cv::Point2d> from, to;
     for (const auto& [f, t] : known) from.push_back(f), to.push_back(t);
     cv::Matx23d mapping(cv::estimateAffine2D(from, to, cv::noArray(), cv::LMEDS));
     const size_t n = states.size();
     reference.assign(n, {});
     reference_corners.assign(n, {});
-    reference_contrast.assign(n, 0);
-    reference_diameter.assign(n, 0);
-    std::vector<double> contrasts, diameters;
     for (size_t i = 0; i < n; ++i) {
       MarkerState& s = states[i];
-      if (s.valid) {
-        reference[i] = s.position;
-        reference_corners[i] = s.corners;
-        if (!s.spec->is_tag()) {
-          // An eye dot is identified by its centroid alone, beside the slit's corner line
-          // even on a weak blob between the two (1280x720: 2.9 px off): measured again, as it
-          // will be followed, from the strongest point within a few pixels.
-          if (at_eye(i))
-            if (auto d = refine_dot(gray, s.position, 3, dot_options(i)))
-              reference[i] = s.position = d->center;
-          // An inner brow dot merged with the eyebrow's end is identified by the merged blob
-          // (Xface joy with turns at 1280x720: 6 px off): its ink's core instead.
-          if (options.hold_merged_inner_brows && is_inner_brow(i))
-            if (auto d = refine_dot(gray, s.position, 3, dot_options(i)); d && merged_with_brow(*d))
-              reference[i] = s.position = merged_brow_position(d->center, s.position, *d);
-          if (auto d = refine_dot(gray, s.position, 1.5, dot_options(i))) {
-            reference_contrast[i] = d->contrast, reference_diameter[i] = d->diameter;
-            contrasts.push_back(d->contrast), diameters.push_back(d->diameter);
-          }
-        }
-      } else {
-        reference[i] = apply(mapping, s.spec->frontal());
-        if (s.spec->is_tag()) {
-          auto c = s.spec->tag_corners_frontal();
-          for (int k = 0; k < 4; ++k) reference_corners[i][k] = apply(mapping, c[k]);
-        }
+      if (s.valid) continue;
+      reference[i] = apply(mapping, s.spec->frontal());
+      if (s.spec->is_tag()) {
+        auto c = s.spec->tag_corners_frontal();
+        for (int k = 0; k < 4; ++k) reference_corners[i][k] = apply(mapping, c[k]);
       }
+    }
+  }
+
+  // The seen markers' start positions, and the seen dots' contrast and size (returned: the
+  // contrasts and sizes of the dots measured, in marker order).
+  std::pair<std::vector<double>, std::vector<double>> measure_seen() {
+    const size_t n = states.size();
+    std::vector<double> contrasts, diameters;
+    reference_contrast.assign(n, 0);
+    reference_diameter.assign(n, 0);
+    for (size_t i = 0; i < n; ++i) {
+      MarkerState& s = states[i];
       s.quality = s.valid ? 1 : 0;
       s.lost_frames = s.valid ? 0 : 1;
+      if (!s.valid) continue;
+      reference[i] = s.position;
+      reference_corners[i] = s.corners;
+      if (s.spec->is_tag()) continue;
+      // An eye dot is identified by its centroid alone, beside the slit's corner line
+      // even on a weak blob between the two (1280x720: 2.9 px off): measured again, as it
+      // will be followed, from the strongest point within a few pixels.
+      if (at_eye(i))
+        if (auto d = refine_dot(gray, s.position, 3, dot_options(i)))
+          reference[i] = s.position = d->center;
+      // An inner brow dot merged with the eyebrow's end is identified by the merged blob
+      // (Xface joy with turns at 1280x720: 6 px off): its ink's core instead.
+      if (options.hold_merged_inner_brows && is_inner_brow(i))
+        if (auto d = refine_dot(gray, s.position, 3, dot_options(i)); d && merged_with_brow(*d))
+          reference[i] = s.position = merged_brow_position(d->center, s.position, *d);
+      if (auto d = refine_dot(gray, s.position, 1.5, dot_options(i))) {
+        reference_contrast[i] = d->contrast, reference_diameter[i] = d->diameter;
+        contrasts.push_back(d->contrast), diameters.push_back(d->diameter);
+      }
     }
+    return {contrasts, diameters};
+  }
+
+  // The pixel-valued options scaled to the dots' typical size (px, large_dots); the dots not
+  // measured at the start take the typical contrast and size.
+  void scale_to_dots(const std::pair<std::vector<double>, std::vector<double>>& measured) {
+    const auto& [contrasts, diameters] = measured;
     auto median = [](std::vector<double> v) {
       if (v.empty()) return 0.0;
       std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
@@ -306,18 +338,21 @@ struct MarkerTracker::Impl {
     const double typical_contrast = median(contrasts), typical_diameter = median(diameters);
     px = std::max(1.0, typical_diameter / options.reference_dot_px);
     large_dots = typical_diameter >= options.reference_dot_px;
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; i < states.size(); ++i)
       if (!states[i].spec->is_tag() && reference_contrast[i] <= 0)
         reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter;
-
     recent_diameter = reference_diameter;
-    recent_elongation.assign(n, 1);
+    recent_elongation.assign(states.size(), 1);
     face_scale = 1;
+  }
+
+  // Each marker's nearest other marker at the start.
+  void measure_spacing() {
+    const size_t n = states.size();
     spacing.assign(n, std::numeric_limits<double>::max());
     for (size_t i = 0; i < n; ++i)
       for (size_t j = 0; j < n; ++j)
         if (i != j) spacing[i] = std::min(spacing[i], cv::norm(reference[i] - reference[j]));
-    started = true;
   }
 
   // ---- per frame -----------------------------------------------------------------------
@@ -423,122 +458,167 @@ struct MarkerTracker::Impl {
   std::vector<double> recent_diameter;    // per dot, smoothed over its last measurements
   std::vector<double> recent_elongation;  // per dot, when last measured
 
-  void follow() {
-    // 1. LK on the valid dots and the valid tags' corners.
+  // ---- per frame: the steps --------------------------------------------------------------
+
+  // One frame's LK: the points followed from the previous frame (the valid dots and the valid
+  // tags' corners), where LK moves them and where it brings them back.
+  struct Flow {
     std::vector<cv::Point2f> before, after, back;
     std::vector<size_t> owner;  // state index per point
+    std::vector<uchar> status, status_back;
+    std::vector<bool> was_valid;  // per marker, at the end of the previous frame
+  };
+  // Point k failed LK's forward-backward round trip (TrackerOptions::max_fb_error).
+  bool failed_round_trip(const Flow& f, size_t k) const {
+    return !f.status[k] || !f.status_back[k] || cv::norm(f.back[k] - f.before[k]) > max_fb_error();
+  }
+  // Each valid tag's corners where LK moved them, and whether all four made the round trip.
+  struct TagGuesses {
+    std::vector<std::array<cv::Point2d, 4>> corners;
+    std::vector<bool> held;
+  };
+
+  void follow() {
+    Flow flow = lk_round_trip();
+    const TagGuesses tags = tag_corner_guesses(flow);
+    snap_dots(flow);
+    follow_tags(flow, tags);
+    drop_jumped(flow);
+    drop_coincident();
+    drop_off_lid_band();
+    reacquire_lost(flow);
+  }
+
+  // 1. LK on the valid dots and the valid tags' corners, forward and back.
+  Flow lk_round_trip() {
+    Flow f;
+    f.was_valid.resize(states.size());
     for (size_t i = 0; i < states.size(); ++i) {
       const MarkerState& s = states[i];
+      f.was_valid[i] = s.valid;
       if (!s.valid) continue;
       if (s.spec->is_tag()) {
-        for (const auto& c : s.corners) before.emplace_back(c), owner.push_back(i);
+        for (const auto& c : s.corners) f.before.emplace_back(c), f.owner.push_back(i);
       } else {
-        before.emplace_back(s.position), owner.push_back(i);
+        f.before.emplace_back(s.position), f.owner.push_back(i);
       }
     }
-    std::vector<uchar> status, status_back;
+    if (f.before.empty()) return f;
     // (No error measure asked of LK: nothing reads it, and it costs a window's interpolation
     // per point.)
     const cv::Size window(lk_window(), lk_window());
     const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
-    if (!before.empty()) {
-      // Each pyramid has its own region: points go to its coordinates and back.
-      const cv::Point2f from_tl(previous_region.tl()), to_tl(region.tl());
-      std::vector<cv::Point2f> local_before(before.size());
-      after.resize(before.size());
-      for (size_t k = 0; k < before.size(); ++k)
-        local_before[k] = before[k] - from_tl, after[k] = before[k] - to_tl;
-      // Derivatives only where LK reads them: around the points it follows from each pyramid.
-      previous_pyramid.derivatives(local_before);
-      cv::calcOpticalFlowPyrLK(previous_pyramid.as_lk_input(), pyramid.as_lk_input(), local_before,
-                               after, status, cv::noArray(), window, options.lk_levels, stop,
-                               cv::OPTFLOW_USE_INITIAL_FLOW);
-      back = local_before;
-      pyramid.derivatives(after);
-      cv::calcOpticalFlowPyrLK(pyramid.as_lk_input(), previous_pyramid.as_lk_input(), after, back,
-                               status_back, cv::noArray(), window, options.lk_levels, stop,
-                               cv::OPTFLOW_USE_INITIAL_FLOW);
-      for (size_t k = 0; k < before.size(); ++k) after[k] += to_tl, back[k] += from_tl;
-    }
+    // Each pyramid has its own region: points go to its coordinates and back.
+    const cv::Point2f from_tl(previous_region.tl()), to_tl(region.tl());
+    std::vector<cv::Point2f> local_before(f.before.size());
+    f.after.resize(f.before.size());
+    for (size_t k = 0; k < f.before.size(); ++k)
+      local_before[k] = f.before[k] - from_tl, f.after[k] = f.before[k] - to_tl;
+    // Derivatives only where LK reads them: around the points it follows from each pyramid.
+    previous_pyramid.derivatives(local_before);
+    cv::calcOpticalFlowPyrLK(previous_pyramid.as_lk_input(), pyramid.as_lk_input(), local_before,
+                             f.after, f.status, cv::noArray(), window, options.lk_levels, stop,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    f.back = local_before;
+    pyramid.derivatives(f.after);
+    cv::calcOpticalFlowPyrLK(pyramid.as_lk_input(), previous_pyramid.as_lk_input(), f.after, f.back,
+                             f.status_back, cv::noArray(), window, options.lk_levels, stop,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t k = 0; k < f.before.size(); ++k) f.after[k] += to_tl, f.back[k] += from_tl;
+    return f;
+  }
 
-    // 2. Dots: check and snap to the centre. Tags: re-detect near the moved corners.
-    std::vector<std::array<cv::Point2d, 4>> tag_guess(states.size());
-    std::vector<int> tag_corner_count(states.size(), 0);
-    std::vector<bool> tag_corners_held(states.size(), true);
-    std::vector<bool> was_valid(states.size());
-    for (size_t i = 0; i < states.size(); ++i) was_valid[i] = states[i].valid;
+  TagGuesses tag_corner_guesses(const Flow& f) const {
+    TagGuesses g{std::vector<std::array<cv::Point2d, 4>>(states.size()),
+                 std::vector<bool>(states.size(), true)};
+    std::vector<int> count(states.size(), 0);
+    for (size_t k = 0; k < f.before.size(); ++k) {
+      const size_t i = f.owner[k];
+      const MarkerState& s = states[i];
+      if (!s.spec->is_tag()) continue;
+      int& c = count[i];
+      g.corners[i][c] = f.status[k] ? cv::Point2d(f.after[k]) : s.corners[c];
+      if (failed_round_trip(f, k)) g.held[i] = false;
+      ++c;
+    }
+    return g;
+  }
+
+  // 2. Each dot that made LK's round trip snapped to its measured centre, if that passes the
+  //    checks; the others turn invalid.
+  void snap_dots(const Flow& f) {
     // The dots that made LK's round trip are measured apart from one another (each reads only
     // the grey image around it) on TrackerOptions::threads threads, then judged and applied
     // in their order: the result does not depend on the thread count. Their grey windows are
     // filled first, serially, as the conversion writes to the one grey image.
     std::vector<size_t> to_measure;  // point indices
-    for (size_t k = 0; k < before.size(); ++k) {
-      MarkerState& s = states[owner[k]];
-      if (s.spec->is_tag()) {
-        int& c = tag_corner_count[owner[k]];
-        tag_guess[owner[k]][c] = status[k] ? cv::Point2d(after[k]) : s.corners[c];
-        if (!status[k] || !status_back[k] || cv::norm(back[k] - before[k]) > max_fb_error())
-          tag_corners_held[owner[k]] = false;
-        ++c;
-        continue;
-      }
+    for (size_t k = 0; k < f.before.size(); ++k) {
+      MarkerState& s = states[f.owner[k]];
+      if (s.spec->is_tag()) continue;
       s.valid = false;
-      if (!status[k] || !status_back[k] || cv::norm(back[k] - before[k]) > max_fb_error()) continue;
-      ensure_gray_around(cv::Point2d(after[k]), max_snap());
+      if (failed_round_trip(f, k)) continue;
+      ensure_gray_around(cv::Point2d(f.after[k]), max_snap());
       to_measure.push_back(k);
     }
-    std::vector<std::optional<Dot>> measured(before.size());
+    std::vector<std::optional<Dot>> measured(f.before.size());
     for_each_in_parallel(to_measure.size(), [&](size_t m) {
       const size_t k = to_measure[m];
-      measured[k] = refine_dot(gray, cv::Point2d(after[k]), max_snap(), dot_options(owner[k]));
+      measured[k] = refine_dot(gray, cv::Point2d(f.after[k]), max_snap(), dot_options(f.owner[k]));
     });
     for (const size_t k : to_measure) {
-      MarkerState& s = states[owner[k]];
-      const double fb = cv::norm(back[k] - before[k]);
+      const size_t i = f.owner[k];
+      MarkerState& s = states[i];
+      const double fb = cv::norm(f.back[k] - f.before[k]);
       const std::optional<Dot>& d = measured[k];
       if (!d) continue;
-      const double snap = cv::norm(d->center - cv::Point2d(after[k]));
-      if (snap > max_snap() || (at_eye(owner[k]) && snap > max_eye_snap()) ||
-          !dot_passes(owner[k], *d, true))
+      const cv::Point2d lk(f.after[k]);
+      const double snap = cv::norm(d->center - lk);
+      if (snap > max_snap() || (at_eye(i) && snap > max_eye_snap()) || !dot_passes(i, *d, true))
         continue;
       s.valid = true;
       s.position = d->center;
       // TrackerOptions::hold_merged_inner_brows. The snap check above still bounds how far LK may
       // wander from the merged blob while it is held: past it the dot turns invalid and is
       // found again.
-      if (options.hold_merged_inner_brows && is_inner_brow(owner[k]) && merged_with_brow(*d))
-        s.position = merged_brow_position(cv::Point2d(after[k]), cv::Point2d(after[k]), *d);
-      recent_diameter[owner[k]] = 0.7 * recent_diameter[owner[k]] + 0.3 * d->diameter;
-      recent_elongation[owner[k]] = d->elongation;
-      s.quality = std::clamp(d->contrast / reference_contrast[owner[k]], 0.0, 1.0) *
+      if (options.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(*d))
+        s.position = merged_brow_position(lk, lk, *d);
+      recent_diameter[i] = 0.7 * recent_diameter[i] + 0.3 * d->diameter;
+      recent_elongation[i] = d->elongation;
+      s.quality = std::clamp(d->contrast / reference_contrast[i], 0.0, 1.0) *
                   (1 - 0.5 * fb / max_fb_error());
     }
-    // A tag is rigid: between detections (every few frames) LK on its corners follows it, as
-    // long as all four corners pass the round trip and the square keeps its size.
+  }
+
+  // 3. A tag is rigid: between detections (every few frames) LK on its corners follows it, as
+  //    long as all four corners pass the round trip and the square keeps its size; otherwise
+  //    it is re-detected near the moved corners.
+  void follow_tags(const Flow& f, const TagGuesses& g) {
     const bool detect_tags = ++frames_since_tag_detection >= options.tag_redetect_every;
     if (detect_tags) frames_since_tag_detection = 0;
     for (size_t i = 0; i < states.size(); ++i) {
-      if (!states[i].spec->is_tag() || !was_valid[i]) continue;
-      if (!detect_tags && tag_corners_held[i] && keeps_shape(states[i].corners, tag_guess[i])) {
-        states[i].corners = tag_guess[i];
-        states[i].position = diagonal_crossing(tag_guess[i]);
+      if (!states[i].spec->is_tag() || !f.was_valid[i]) continue;
+      if (!detect_tags && g.held[i] && keeps_shape(states[i].corners, g.corners[i])) {
+        states[i].corners = g.corners[i];
+        states[i].position = diagonal_crossing(g.corners[i]);
         continue;
       }
-      find_tag(i, tag_guess[i]);
+      find_tag(i, g.corners[i]);
     }
+  }
 
-    // 3a. A dot must move roughly as its neighbours do: LK that slid onto another dot (a
-    //     neighbour's, while its own was hidden) moves very differently from them.
+  // 4a. A dot must move roughly as its neighbours do: LK that slid onto another dot (a
+  //     neighbour's, while its own was hidden) moves very differently from them.
+  void drop_jumped(const Flow& f) {
     std::vector<cv::Point2d> moved(states.size());
-    for (size_t k = 0; k < before.size(); ++k)
-      if (!states[owner[k]].spec->is_tag())
-        moved[owner[k]] = states[owner[k]].position - cv::Point2d(before[k]);
+    for (size_t k = 0; k < f.before.size(); ++k)
+      if (!states[f.owner[k]].spec->is_tag())
+        moved[f.owner[k]] = states[f.owner[k]].position - cv::Point2d(f.before[k]);
     std::vector<size_t> jumped;
     for (size_t i = 0; i < states.size(); ++i) {
-      if (!states[i].valid || states[i].spec->is_tag() || !was_valid[i]) continue;
+      if (!states[i].valid || states[i].spec->is_tag() || !f.was_valid[i]) continue;
       std::vector<std::pair<double, size_t>> near;
       for (size_t j = 0; j < states.size(); ++j)
-        if (j != i && states[j].valid && was_valid[j] && !states[j].spec->is_tag() &&
+        if (j != i && states[j].valid && f.was_valid[j] && !states[j].spec->is_tag() &&
             !apart_from_lower_lip(i, j))
           near.push_back({cv::norm(reference[j] - reference[i]), j});
       if (near.size() < 3) continue;
@@ -554,8 +634,10 @@ struct MarkerTracker::Impl {
         jumped.push_back(i);
     }
     for (size_t i : jumped) states[i].valid = false;
+  }
 
-    // 3b. Two dots on one spot: neither can be trusted (an identity swap is worse than a gap).
+  // 4b. Two dots on one spot: neither can be trusted (an identity swap is worse than a gap).
+  void drop_coincident() {
     for (size_t i = 0; i < states.size(); ++i)
       for (size_t j = i + 1; j < states.size(); ++j) {
         MarkerState &a = states[i], &b = states[j];
@@ -563,22 +645,25 @@ struct MarkerTracker::Impl {
         if (cv::norm(a.position - b.position) < 0.5 * std::max(reference_diameter[i], 2.0))
           a.valid = b.valid = false;
       }
+  }
 
-    // 3c. A followed lid dot that left its band (in_its_lid_band) is not the lid's: a take
-    //     starting in a squint names the brow's dot the upper lid's.
+  // 4c. A followed lid dot that left its band (in_its_lid_band) is not the lid's: a take
+  //     starting in a squint names the brow's dot the upper lid's.
+  void drop_off_lid_band() {
     for (size_t i = 0; i < states.size(); ++i)
       if (states[i].valid && is_lid(i) && !in_its_lid_band(i, states[i].position))
         states[i].valid = false;
+  }
 
-    // 4. Look again for the markers that are not valid, where their neighbours put them.
-    remember_last_seen(was_valid, before, owner);
+  // 5. Look again for the markers that are not valid, where their neighbours put them.
+  void reacquire_lost(const Flow& f) {
+    remember_last_seen(f.was_valid, f.before, f.owner);
     predict_lost();
     const bool lower_lip_searched = options.lower_lip_together && reacquire_lower_lip();
     for (size_t i = 0; i < states.size(); ++i)
       if (!states[i].valid && has_prediction[i] && !(lower_lip_searched && at_lower_lip(i)))
         reacquire(i);
   }
-
   int frames_since_tag_detection = 0;
 
   // Side lengths within 10% of the last ones: LK did not slide a corner along an edge.
