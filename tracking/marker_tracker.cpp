@@ -1,6 +1,7 @@
 #include "tracking/marker_tracker.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <opencv2/calib3d.hpp>
@@ -29,6 +30,39 @@ cv::Rect box_around(const std::array<cv::Point2d, 4>& corners, double margin) {
     x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
   return {static_cast<int>(x0 - margin), static_cast<int>(y0 - margin),
           static_cast<int>(x1 - x0 + 2 * margin) + 1, static_cast<int>(y1 - y0 + 2 * margin) + 1};
+}
+
+// Each dot's part of the face, from its MPEG-4 feature point: which region rules apply to it.
+// The eyes (group 3) are where a dot meets dark things that are no markers (the pupil, the
+// iris, the lash line, the other lid's dot); the brows (group 4) and the eyes lie at other
+// depths than their neighbours; the lower lip moves unlike the dots around it.
+enum class DotRole {
+  Lid,             // 3.1-3.4: the upper and lower lids' midpoints
+  InnerEyeCorner,  // 3.8, 3.11
+  OuterEyeCorner,  // 3.7, 3.12
+  OtherEye,        // any other point of group 3 (the pupils): an eye dot with no rule of its own
+  InnerBrow,       // 4.1, 4.2: at the eyebrows' inner ends
+  MidBrow,         // 4.3, 4.4: on the eyebrow
+  LowerLip,        // 8.2, 8.7, 8.8 (lower_lip_search.hpp)
+  Plain,           // every other dot, and the tags
+};
+
+DotRole role_of(const FeaturePointId& fp) {
+  constexpr int kLeftOuterCorner = 7, kRightOuterCorner = 12;
+  if (is_lid_point(fp)) return DotRole::Lid;
+  if (is_inner_eye_corner(fp)) return DotRole::InnerEyeCorner;
+  if (is_eye_point(fp))
+    return fp.index == kLeftOuterCorner || fp.index == kRightOuterCorner ? DotRole::OuterEyeCorner
+                                                                         : DotRole::OtherEye;
+  if (fp.group == 4 && fp.index <= 2) return DotRole::InnerBrow;
+  if (fp.group == 4 && (fp.index == 3 || fp.index == 4)) return DotRole::MidBrow;
+  if (at_lower_lip(fp)) return DotRole::LowerLip;
+  return DotRole::Plain;
+}
+
+bool at_eye(DotRole r) {
+  return r == DotRole::Lid || r == DotRole::InnerEyeCorner || r == DotRole::OuterEyeCorner ||
+         r == DotRole::OtherEye;
 }
 
 }  // namespace
@@ -69,6 +103,7 @@ struct MarkerTracker::Impl {
     std::vector<FeaturePointId> points;
     for (const MarkerState& s : states) points.push_back(s.spec->feature_point);
     lids = LidGeometry(points);
+    for (const FeaturePointId& fp : points) roles.push_back(role_of(fp));
     options.dots.polarity = layout.polarity;
     centroid_dots = options.dots;
     centroid_dots.edge_fit = false;
@@ -84,7 +119,18 @@ struct MarkerTracker::Impl {
     inner_corner_dots_large = inner_corner_dots;
     inner_corner_dots_large.max_elongation =
         std::max(options.dots.max_elongation, options.inner_corner_max_elongation_large);
+    for (size_t i = 0; i < states.size(); ++i) {
+      const DotRole r = roles[i];
+      const bool edge_fit = tracking::at_eye(r) || options.edge_fit_elsewhere ||
+                            (options.edge_fit_mid_brows && r == DotRole::MidBrow);
+      const DotOptions* plain = edge_fit ? &options.dots : &centroid_dots;
+      const bool inner_corner = r == DotRole::InnerEyeCorner;
+      measured_with[0].push_back(inner_corner ? &inner_corner_dots : plain);
+      measured_with[1].push_back(inner_corner ? &inner_corner_dots_large : plain);
+    }
   }
+
+  std::vector<DotRole> roles;  // per marker, from its feature point
 
   // TrackerOptions::threads, 0 resolved to the machine's cores.
   const int threads;
@@ -396,22 +442,11 @@ struct MarkerTracker::Impl {
            d.diameter >= 0.5 * reference_diameter[i] &&
            d.diameter <= (at_eye(i) ? largest : 2.0 * reference_diameter[i]);
   }
-  // The eyes (MPEG-4 group 3: lids and corners) are where a dot meets dark things that are
-  // no markers (the pupil, the iris, the lash line, the other lid's dot); the brows (group 4)
-  // and the eyes lie at other depths than their neighbours. Around the mouth, where the lips'
-  // dark line and the open mouth are, a dot merged for a frame is better kept than dropped
-  // (the suite's mouth clip: dropped lip dots come back on a neighbour's).
-  bool at_eye(size_t i) const { return is_eye_point(states[i].spec->feature_point); }
-  bool at_brow(size_t i) const { return states[i].spec->feature_point.group == 4; }
-  // MPEG-4 4.1, 4.2: the inner brow dots, at the eyebrows' inner ends.
-  bool is_inner_brow(size_t i) const {
-    return at_brow(i) && states[i].spec->feature_point.index <= 2;
-  }
-  // MPEG-4 4.3, 4.4: the mid-brow dots, on the eyebrow.
-  bool is_mid_brow(size_t i) const {
-    const int index = states[i].spec->feature_point.index;
-    return at_brow(i) && (index == 3 || index == 4);
-  }
+  // (DotRole.) Around the mouth, where the lips' dark line and the open mouth are, a dot
+  // merged for a frame is better kept than dropped (the suite's mouth clip: dropped lip dots
+  // come back on a neighbour's): the eye dots' stricter checks hold only at the eyes.
+  bool at_eye(size_t i) const { return tracking::at_eye(roles[i]); }
+  bool is_inner_brow(size_t i) const { return roles[i] == DotRole::InnerBrow; }
   // A brow dot's blob merged with the eyebrow: on the rendered head a lone inner brow dot is
   // measured at 0.9 of its contrast (the eyebrow beside it merges at 0.8) and is at most 1.5
   // long and at least 0.68 round there; merged with the eyebrow it comes out at 0.8, or at 0.9
@@ -430,16 +465,10 @@ struct MarkerTracker::Impl {
   // lost before at 0.6 with the line still on, and the edge fit then put 1 in 8 of them 1-1.6 px
   // off (Xface fear: head yaw 9.4 -> 12.7 %).
   DotOptions centroid_dots, inner_corner_dots, inner_corner_dots_large;
-  const DotOptions& dot_options(size_t i) const {
-    if (is_inner_corner(i)) return large_dots ? inner_corner_dots_large : inner_corner_dots;
-    const bool edge_fit =
-        at_eye(i) || options.edge_fit_elsewhere || (options.edge_fit_mid_brows && is_mid_brow(i));
-    return edge_fit ? options.dots : centroid_dots;
-  }
-  bool is_inner_corner(size_t i) const {
-    return is_inner_eye_corner(states[i].spec->feature_point);
-  }
-  bool is_lid(size_t i) const { return is_lid_point(states[i].spec->feature_point); }
+  // Per marker, set in the constructor: [large_dots][i].
+  std::array<std::vector<const DotOptions*>, 2> measured_with;
+  const DotOptions& dot_options(size_t i) const { return *measured_with[large_dots ? 1 : 0][i]; }
+  bool is_lid(size_t i) const { return roles[i] == DotRole::Lid; }
   double face_scale = 1;  // the face's size now over its size at the start
   // Where a merged inner brow dot is: the centre of its ink's core near `from`
   // (TrackerOptions::inner_brow_core_tolerance), else `otherwise`.
@@ -892,9 +921,7 @@ struct MarkerTracker::Impl {
 
   // ---- the lower lip (lower_lip_search.hpp) ---------------------------------------------
 
-  bool at_lower_lip(size_t i) const {
-    return tracking::at_lower_lip(states[i].spec->feature_point);
-  }
+  bool at_lower_lip(size_t i) const { return roles[i] == DotRole::LowerLip; }
   // The lower lip opens with the jaw by up to a spacing in a frame (Xface joy), unlike the
   // upper lip and the corners: its dots are no measure of how theirs should move
   // (TrackerOptions::lower_lip_together; its own dots are still judged by theirs).
