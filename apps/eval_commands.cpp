@@ -207,11 +207,15 @@ void eval_suite(const SuiteArgs& a) {
     progress.finish();
   }
   std::fputs(eval::suite_table_text(rows).c_str(), stdout);
+  std::printf("\nlost marker-frames by the rule that dropped them\n%s",
+              eval::loss_table_text(rows).c_str());
   if (!a.markdown.empty()) {
     const std::string body = fmt::format(
-        "Written by `rostro eval suite --markdown` (rostro {}) on {}.\n\n{}", ROSTRO_VERSION,
-        fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
-        eval::suite_table_markdown(rows));
+        "Written by `rostro eval suite --markdown` (rostro {}) on {}.\n\n{}\nLost "
+        "marker-frames by the rule that dropped them (tracking::LostReason, kept while the "
+        "marker stays lost; every layout marker, visible in the truth or not):\n\n{}",
+        ROSTRO_VERSION, fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        eval::suite_table_markdown(rows), eval::loss_table_markdown(rows));
     eval::replace_markdown_section(a.markdown, "## Suite table", body);
     std::printf("table written to %s (section \"Suite table\")\n", a.markdown.c_str());
   }

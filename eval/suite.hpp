@@ -12,6 +12,7 @@
 // folder), yaw, pitch, roll, motion_period, distance_amp, brightness, light, noise,
 // motion_blur, occluder (true/false), as the `rostro synth` options of the same names.
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -19,6 +20,7 @@
 
 #include "eval/synth.hpp"
 #include "eval/track_metrics.hpp"
+#include "tracking/marker_tracker.hpp"
 
 namespace rostro::eval {
 
@@ -43,6 +45,9 @@ struct SuiteRow {
   std::string name, title;
   long frames = 0;
   TrackEvalResult result;
+  // Marker-frames the tracker reported lost, by tracking::LostReason (None stays 0): every
+  // layout marker, visible in the truth or not.
+  std::array<long, tracking::kLostReasonCount> lost_by{};
 };
 
 // Progress: (scenario index, frames done in it, frames in it).
@@ -56,6 +61,10 @@ SuiteRow run_scenario(const SuiteScenario& scenario, const FaceModel& model,
 // The table: scenario, NME mean, AUC@0.08, failure rate, lost frames, swaps (events).
 std::string suite_table_markdown(const std::vector<SuiteRow>& rows);
 std::string suite_table_text(const std::vector<SuiteRow>& rows);
+// The lost marker-frames by the rule that dropped them: a column per tracking::LostReason
+// that any row counts.
+std::string loss_table_markdown(const std::vector<SuiteRow>& rows);
+std::string loss_table_text(const std::vector<SuiteRow>& rows);
 
 // Replaces the section that starts with the line `heading` (up to the next "## " heading) in
 // the Markdown file `path` by `heading` + `body`, or appends it when absent; the rest of the

@@ -268,7 +268,7 @@ struct MarkerTracker::Impl {
     const std::vector<std::pair<cv::Point2d, cv::Point2d>> known =
         start_positions.empty() ? identify(tags) : find_at_start_positions(tags);
     if (static_cast<int>(known.size()) < std::max(3, options.min_identified)) {
-      for (MarkerState& s : states) s.valid = false;
+      for (MarkerState& s : states) s.valid = false, s.lost_reason = LostReason::Unidentified;
       return;
     }
     place_unseen(known);
@@ -349,6 +349,7 @@ struct MarkerTracker::Impl {
       MarkerState& s = states[i];
       s.quality = s.valid ? 1 : 0;
       s.lost_frames = s.valid ? 0 : 1;
+      s.lost_reason = s.valid ? LostReason::None : LostReason::Unidentified;
       if (!s.valid) continue;
       reference[i] = s.position;
       reference_corners[i] = s.corners;
@@ -426,7 +427,8 @@ struct MarkerTracker::Impl {
   // have turned toward the camera meanwhile, so after a long loss it may be a little larger
   // than it was then or at the start, not as large as two dots (after a short one, than it was
   // then, when it was seen edge-on: merged with a dark neighbour it is about its start size).
-  bool dot_passes(size_t i, const Dot& d, bool followed) const {
+  // The first check dot d fails as marker i (None: it passes).
+  LostReason dot_check(size_t i, const Dot& d, bool followed) const {
     const double was = recent_diameter[i] > 0 ? recent_diameter[i] : reference_diameter[i];
     // (TrackerOptions::eye_size_memory_frames: an eye dot last seen edge-on and lost a short
     // while keeps its own size.)
@@ -436,11 +438,17 @@ struct MarkerTracker::Impl {
         followed || edge_on_lately ? was : std::max(was, reference_diameter[i] * face_scale);
     const double largest =
         (followed ? options.max_dot_growth : options.max_dot_growth_found) * grown_from;
-    if (is_lid(i) && d.elongation > options.max_lid_elongation) return false;
-    if (is_lid(i) && d.surround > options.max_lid_surround) return false;
-    return d.contrast >= options.min_contrast_ratio * reference_contrast[i] &&
-           d.diameter >= 0.5 * reference_diameter[i] &&
-           d.diameter <= (at_eye(i) ? largest : 2.0 * reference_diameter[i]);
+    if (is_lid(i) && d.elongation > options.max_lid_elongation) return LostReason::LidElongation;
+    if (is_lid(i) && d.surround > options.max_lid_surround) return LostReason::LidSurround;
+    if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
+      return LostReason::Contrast;
+    if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
+    if (!(d.diameter <= (at_eye(i) ? largest : 2.0 * reference_diameter[i])))
+      return LostReason::Growth;
+    return LostReason::None;
+  }
+  bool dot_passes(size_t i, const Dot& d, bool followed) const {
+    return dot_check(i, d, followed) == LostReason::None;
   }
   // (DotRole.) Around the mouth, where the lips' dark line and the open mouth are, a dot
   // merged for a frame is better kept than dropped (the suite's mouth clip: dropped lip dots
@@ -585,7 +593,10 @@ struct MarkerTracker::Impl {
       MarkerState& s = states[f.owner[k]];
       if (s.spec->is_tag()) continue;
       s.valid = false;
-      if (failed_round_trip(f, k)) continue;
+      if (failed_round_trip(f, k)) {
+        s.lost_reason = LostReason::RoundTrip;
+        continue;
+      }
       ensure_gray_around(cv::Point2d(f.after[k]), max_snap());
       to_measure.push_back(k);
     }
@@ -599,11 +610,16 @@ struct MarkerTracker::Impl {
       MarkerState& s = states[i];
       const double fb = cv::norm(f.back[k] - f.before[k]);
       const std::optional<Dot>& d = measured[k];
-      if (!d) continue;
+      if (!d) {
+        s.lost_reason = LostReason::NoDot;
+        continue;
+      }
       const cv::Point2d lk(f.after[k]);
       const double snap = cv::norm(d->center - lk);
-      if (snap > max_snap() || (at_eye(i) && snap > max_eye_snap()) || !dot_passes(i, *d, true))
-        continue;
+      s.lost_reason = snap > max_snap()                    ? LostReason::Snap
+                      : at_eye(i) && snap > max_eye_snap() ? LostReason::EyeSnap
+                                                           : dot_check(i, *d, true);
+      if (s.lost_reason != LostReason::None) continue;
       s.valid = true;
       s.position = d->center;
       // TrackerOptions::hold_merged_inner_brows. The snap check above still bounds how far LK may
@@ -662,7 +678,7 @@ struct MarkerTracker::Impl {
           std::max(options.max_relative_motion_px * px, options.max_relative_motion * spacing[i]))
         jumped.push_back(i);
     }
-    for (size_t i : jumped) states[i].valid = false;
+    for (size_t i : jumped) states[i].valid = false, states[i].lost_reason = LostReason::Jump;
   }
 
   // 4b. Two dots on one spot: neither can be trusted (an identity swap is worse than a gap).
@@ -671,8 +687,10 @@ struct MarkerTracker::Impl {
       for (size_t j = i + 1; j < states.size(); ++j) {
         MarkerState &a = states[i], &b = states[j];
         if (!a.valid || !b.valid || a.spec->is_tag() || b.spec->is_tag()) continue;
-        if (cv::norm(a.position - b.position) < 0.5 * std::max(reference_diameter[i], 2.0))
+        if (cv::norm(a.position - b.position) < 0.5 * std::max(reference_diameter[i], 2.0)) {
           a.valid = b.valid = false;
+          a.lost_reason = b.lost_reason = LostReason::Coincident;
+        }
       }
   }
 
@@ -681,7 +699,7 @@ struct MarkerTracker::Impl {
   void drop_off_lid_band() {
     for (size_t i = 0; i < states.size(); ++i)
       if (states[i].valid && is_lid(i) && !in_its_lid_band(i, states[i].position))
-        states[i].valid = false;
+        states[i].valid = false, states[i].lost_reason = LostReason::LidBand;
   }
 
   // 5. Look again for the markers that are not valid, where their neighbours put them.
@@ -719,6 +737,7 @@ struct MarkerTracker::Impl {
     MarkerState& s = states[i];
     const double side = cv::norm(guess[0] - guess[1]);
     const cv::Rect roi = box_around(guess, options.tag_margin * side + 4);
+    if (s.valid) s.lost_reason = LostReason::TagLost;  // unless found below
     s.valid = false;
     // Large tags are found as well at half resolution, for a quarter of the cost; the
     // corners are refined on the full image either way.
@@ -1028,6 +1047,7 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
   out.frame = frame;
   out.time_s = time_s;
   for (MarkerState& s : m.states) {
+    if (s.valid) s.lost_reason = LostReason::None;
     s.lost_frames = s.valid ? 0 : s.lost_frames + 1;
     if (!s.valid) s.quality = 0;
     MarkerObservation o;
@@ -1039,6 +1059,42 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     out.markers.push_back(o);
   }
   return out;
+}
+
+const char* to_string(LostReason r) {
+  switch (r) {
+    case LostReason::None:
+      return "none";
+    case LostReason::Unidentified:
+      return "unidentified";
+    case LostReason::RoundTrip:
+      return "round trip";
+    case LostReason::NoDot:
+      return "no dot";
+    case LostReason::Snap:
+      return "snap";
+    case LostReason::EyeSnap:
+      return "eye snap";
+    case LostReason::LidElongation:
+      return "lid elongation";
+    case LostReason::LidSurround:
+      return "lid surround";
+    case LostReason::Contrast:
+      return "contrast";
+    case LostReason::Shrunk:
+      return "shrunk";
+    case LostReason::Growth:
+      return "growth";
+    case LostReason::Jump:
+      return "jump";
+    case LostReason::Coincident:
+      return "coincident";
+    case LostReason::LidBand:
+      return "lid band";
+    case LostReason::TagLost:
+      return "tag lost";
+  }
+  return "?";
 }
 
 bool MarkerTracker::started() const {

@@ -174,10 +174,34 @@ struct TrackerOptions {
   int threads = 0;
 };
 
+// Why a marker is not valid this frame: the rule that dropped it, kept while it stays lost, or
+// that it was never identified. `rostro eval suite` counts each per clip.
+enum class LostReason {
+  None,           // valid
+  Unidentified,   // not identified (or not at its start position) when tracking started
+  RoundTrip,      // LK's forward-backward round trip failed (max_fb_error)
+  NoDot,          // no dot passing DotOptions' checks within max_snap of where LK moved it
+  Snap,           // its dot's centre farther than max_snap from where LK moved it
+  EyeSnap,        // an eye dot's centre farther than max_eye_snap from there
+  LidElongation,  // a lid dot's blob longer than max_lid_elongation
+  LidSurround,    // a lid dot's ring darker than max_lid_surround
+  Contrast,       // below min_contrast_ratio of its contrast at the start
+  Shrunk,         // under half its size at the start
+  Growth,         // an eye dot grown past max_dot_growth(_found); another over twice its start size
+  Jump,           // moved unlike its neighbours (max_relative_motion, max_relative_motion_px)
+  Coincident,     // on the spot of another dot (both are dropped)
+  LidBand,        // a lid dot off its band (lid_overshoot_fraction, lid_reach)
+  TagLost,        // a tag not detected again near where LK moved its corners
+};
+inline constexpr int kLostReasonCount = static_cast<int>(LostReason::TagLost) + 1;
+// A few words: "round trip", "lid band", ...
+const char* to_string(LostReason reason);
+
 // One marker's state as the overlay draws it.
 struct MarkerState {
   const MarkerSpec* spec = nullptr;
   bool valid = false;
+  LostReason lost_reason = LostReason::Unidentified;  // None while valid
   cv::Point2d position;
   std::array<cv::Point2d, 4> corners{};  // tags only
   double quality = 0;
