@@ -12,6 +12,7 @@
 
 #include "facecore/error.hpp"
 #include "facecore/fap_table.hpp"
+#include "facecore/option_check.hpp"
 #include "mapping/hierarchy.hpp"
 
 namespace rostro::mapping {
@@ -673,8 +674,23 @@ struct FapSolver::Impl {
   }
 };
 
+void SolverOptions::validate() const {
+  const OptionCheck check("SolverOptions");
+  check.positive("loss_scale_px", loss_scale_px).not_negative("prior_weight", prior_weight);
+  for (const auto& [fap, weight] : prior_weight_of)
+    check.not_negative(("prior_weight_of[" + std::to_string(fap) + "]").c_str(), weight);
+  check.not_negative("pose_prior_weight", pose_prior_weight)
+      .positive("pose_prior_scale_px", pose_prior_scale_px)
+      .within("pose_velocity_gain", pose_velocity_gain, 0, 1)
+      .positive("max_iterations", max_iterations)
+      .not_negative("function_tolerance", function_tolerance)
+      .not_negative("parameter_tolerance", parameter_tolerance)
+      .positive("min_markers", min_markers)
+      .positive("focal_prior_sigma", focal_prior_sigma);
+}
+
 FapSolver::FapSolver(const calib::ActorProfile& profile, const SolverOptions& options)
-    : impl_(std::make_unique<Impl>(profile, options)) {}
+    : impl_(std::make_unique<Impl>(profile, validated(options))) {}
 FapSolver::~FapSolver() = default;
 FitResult FapSolver::fit(const tracking::TrackedFrame& frame) {
   return impl_->fit(frame);

@@ -99,6 +99,10 @@ struct SolverOptions {
   // pose and FAPs (a frontal face says almost nothing about f, a turned one does).
   bool refine_default_focal = true;
   double focal_prior_sigma = 0.2;  // of log f: how firmly the guess is held
+
+  // Throws InputError naming the first option out of range (a negative weight,
+  // max_iterations <= 0, ...). FapSolver's constructor calls it.
+  void validate() const;
 };
 
 struct FitResult {

@@ -10,6 +10,7 @@
 #include <opencv2/video/tracking.hpp>
 #include <optional>
 
+#include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/ink_core.hpp"
@@ -91,7 +92,7 @@ struct MarkerTracker::Impl {
 
   Impl(MarkerLayout l, TrackerOptions o)
       : layout(std::move(l)),
-        options(std::move(o)),
+        options(validated(o)),
         full_detector(with_layout_families(options.tags)),
         window_detector(window_options(with_layout_families(options.tags))),
         threads(options.threads > 0 ? options.threads : std::max(1, cv::getNumberOfCPUs())) {
@@ -1059,6 +1060,42 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     out.markers.push_back(o);
   }
   return out;
+}
+
+void TrackerOptions::validate() const {
+  dots.validate();
+  OptionCheck("TrackerOptions")
+      .positive("reference_dot_px", reference_dot_px)
+      .at_least("inner_corner_max_elongation_large", inner_corner_max_elongation_large, 1)
+      .positive("lk_window", lk_window)
+      .not_negative("lk_levels", lk_levels)
+      .not_negative("region_margin_px", region_margin_px)
+      .positive("max_fb_error", max_fb_error)
+      .positive("max_snap", max_snap)
+      .not_negative("min_contrast_ratio", min_contrast_ratio)
+      .not_negative("tag_margin", tag_margin)
+      .not_negative("tag_decimate_above_px", tag_decimate_above_px)
+      .positive("tag_redetect_every", tag_redetect_every)
+      .positive("search_fraction", search_fraction)
+      .positive("max_eye_snap", max_eye_snap)
+      .not_negative("lid_sideways_fraction", lid_sideways_fraction)
+      .not_negative("lid_overshoot_fraction", lid_overshoot_fraction)
+      .positive("lid_reach", lid_reach)
+      .not_negative("max_relative_motion", max_relative_motion)
+      .not_negative("max_relative_motion_px", max_relative_motion_px)
+      .not_negative("lower_lip_up", lower_lip_up)
+      .not_negative("lower_lip_down", lower_lip_down)
+      .not_negative("lower_lip_sideways", lower_lip_sideways)
+      .positive("lower_lip_shape", lower_lip_shape)
+      .at_least("max_dot_growth", max_dot_growth, 1)
+      .at_least("max_dot_growth_found", max_dot_growth_found, 1)
+      .not_negative("eye_size_memory_frames", eye_size_memory_frames)
+      .at_least("edge_on_elongation", edge_on_elongation, 1)
+      .at_least("max_lid_elongation", max_lid_elongation, 1)
+      .positive("max_lid_surround", max_lid_surround)
+      .not_negative("inner_brow_core_tolerance", inner_brow_core_tolerance)
+      .not_negative("min_identified", min_identified)
+      .not_negative("threads", threads);
 }
 
 const char* to_string(LostReason r) {

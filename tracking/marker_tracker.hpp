@@ -172,6 +172,10 @@ struct TrackerOptions {
   // OpenCV's cv::setNumThreads caps them). Any count gives the same tracks: each dot is
   // measured on its own, then all are judged and applied in layout order.
   int threads = 0;
+
+  // Throws InputError naming the first option out of range (lk_window <= 0, max_dot_growth
+  // < 1, ...), this struct's or its DotOptions'. MarkerTracker's constructor calls it.
+  void validate() const;
 };
 
 // Why a marker is not valid this frame: the rule that dropped it, kept while it stays lost, or

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "calib/actor_calibration.hpp"
+#include "facecore/error.hpp"
 #include "mapping/fap_mapper.hpp"
 #include "tests/mapping/model_projection.hpp"
 #include "tests/mapping/synthetic_face.hpp"
@@ -39,6 +40,28 @@ std::vector<tracking::TrackedFrame> neutral_frames(const test::SyntheticActor& a
   std::vector<tracking::TrackedFrame> frames;
   for (int i = 0; i < 15; ++i) frames.push_back(render(a, {}, pose, noise, rng, i));
   return frames;
+}
+
+TEST(FapSolver, BadOptionIsNamedInOneLine) {
+  EXPECT_NO_THROW(SolverOptions{}.validate());
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  SolverOptions o;
+  o.max_iterations = 0;
+  try {
+    FapSolver solver(test::exact_profile(actor, neutral), o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "SolverOptions::max_iterations = 0: should be > 0");
+  }
+  o = {};
+  o.prior_weight_of[3] = -1;
+  try {
+    o.validate();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "SolverOptions::prior_weight_of[3] = -1: should be >= 0");
+  }
 }
 
 TEST(FapSolver, ExactProfileStillHeadNoiseFree) {
