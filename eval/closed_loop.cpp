@@ -228,7 +228,9 @@ const LoopScore& LoopResult::score(LoopMethod m) const {
 
 LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
                              const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
-                             const LoopProgress& progress) {
+                             const LoopProgress& progress,
+                             const tracking::TrackerOptions& tracker_options,
+                             const mapping::SolverOptions& solver_options) {
   const FapStream drive = loop_drive(s);
   const double fps = drive.header.fps;
   const long total = static_cast<long>(drive.frames.size());
@@ -237,7 +239,7 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   o.dot_diameter_mm = layout.dot_diameter_mm;
   o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
   const auto markers = place_markers(model, layout);
-  tracking::MarkerTracker tracker(layout);
+  tracking::MarkerTracker tracker(layout, tracker_options);
   std::vector<tracking::TrackedFrame> tracked;
   CallbackSink sink([&](const cv::Mat& bgr) {
     const auto i = static_cast<std::size_t>(tracked.size());
@@ -258,6 +260,7 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   for (LoopMethod m : kLoopMethods) {
     mapping::MapperOptions options;
     options.method = m == LoopMethod::Seed2d ? mapping::Method::Seed2d : mapping::Method::Ceres;
+    options.solver = solver_options;
     options.hierarchy = mapping::default_hierarchy();  // as `rostro capture` maps by default
     mapping::TakeMapper take(layout, options, truth.intrinsics, std::nullopt, calibration_frames);
     FapStream est;

@@ -34,7 +34,9 @@
 #include "eval/fap_metrics.hpp"
 #include "eval/head_sweeps.hpp"
 #include "eval/synth.hpp"
+#include "mapping/fap_solver.hpp"
 #include "tracking/layout.hpp"
+#include "tracking/marker_tracker.hpp"
 
 namespace rostro::eval {
 
@@ -111,10 +113,13 @@ struct LoopResult {
 // Progress of the rendering and tracking: (frames done, frames in the clip).
 using LoopProgress = std::function<void(long, long)>;
 
-// Runs one scenario (not a skipped one). Throws render::RenderUnavailable without OpenGL.
+// Runs one scenario (not a skipped one), tracked with `tracker_options` and fitted (both Ceres
+// methods) with `solver_options`. Throws render::RenderUnavailable without OpenGL.
 LoopResult run_loop_scenario(const LoopScenario& scenario, const FaceModel& model,
                              const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
-                             const LoopProgress& progress = {});
+                             const LoopProgress& progress = {},
+                             const tracking::TrackerOptions& tracker_options = {},
+                             const mapping::SolverOptions& solver_options = {});
 
 // The summary (scenario x method: mean and max share over the tracked FAPs, worst FAP, aim,
 // met) and one per-FAP table per scenario (RMS in the FAP's unit and as a share of range).

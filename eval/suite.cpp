@@ -106,7 +106,8 @@ SuiteDefinition load_suite(const std::filesystem::path& path) {
 
 SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
                       const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
-                      const std::function<void(long, long)>& progress) {
+                      const std::function<void(long, long)>& progress,
+                      const tracking::TrackerOptions& tracker_options) {
   FapStream drive = s.fap.empty() ? range_of_motion(s.fps) : read_fap_stream(s.fap);
   if (s.fap.empty()) drive.header.fps = s.fps;
   const auto keep = static_cast<std::size_t>(std::lround(s.seconds * drive.header.fps));
@@ -117,7 +118,7 @@ SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
   o.dot_diameter_mm = layout.dot_diameter_mm;
   o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
   const auto markers = place_markers(model, layout);
-  tracking::MarkerTracker tracker(layout);
+  tracking::MarkerTracker tracker(layout, tracker_options);
   TrackingSink sink(tracker, drive.header.fps);
   const long total = drive.header.frame_count;
   const SynthResult truth = synthesize(model, library, markers, drive, o, sink, [&](long done) {

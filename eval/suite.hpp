@@ -53,10 +53,12 @@ struct SuiteRow {
 // Progress: (scenario index, frames done in it, frames in it).
 using SuiteProgress = std::function<void(std::size_t, long, long)>;
 
-// Runs one scenario with `layout` on `model`. Throws render::RenderUnavailable without OpenGL.
+// Runs one scenario with `layout` on `model`, tracked with `tracker_options`. Throws
+// render::RenderUnavailable without OpenGL.
 SuiteRow run_scenario(const SuiteScenario& scenario, const FaceModel& model,
                       const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
-                      const std::function<void(long, long)>& progress = {});
+                      const std::function<void(long, long)>& progress = {},
+                      const tracking::TrackerOptions& tracker_options = {});
 
 // The table: scenario, NME mean, AUC@0.08, failure rate, lost frames, swaps (events).
 std::string suite_table_markdown(const std::vector<SuiteRow>& rows);

@@ -12,6 +12,7 @@
 
 #include "facecore/error.hpp"
 #include "facecore/fap_table.hpp"
+#include "facecore/named_options.hpp"
 #include "facecore/option_check.hpp"
 #include "mapping/hierarchy.hpp"
 #include "mapping/marker_residual.hpp"
@@ -584,6 +585,26 @@ void SolverOptions::validate() const {
       .not_negative("parameter_tolerance", parameter_tolerance)
       .positive("min_markers", min_markers)
       .positive("focal_prior_sigma", focal_prior_sigma);
+}
+
+void set_solver_option(SolverOptions& options, const std::string& assignment) {
+  using O = SolverOptions;
+  static const std::vector<NamedOption<O>> table = {
+      ROSTRO_NAMED_OPTION(O, model.fit_depth_faps),
+      ROSTRO_NAMED_OPTION(O, loss_scale_px),
+      ROSTRO_NAMED_OPTION(O, prior_weight),
+      ROSTRO_NAMED_OPTION(O, pose_prior_weight),
+      ROSTRO_NAMED_OPTION(O, pose_prior_scale_px),
+      ROSTRO_NAMED_OPTION(O, pose_velocity_gain),
+      ROSTRO_NAMED_OPTION(O, max_iterations),
+      ROSTRO_NAMED_OPTION(O, function_tolerance),
+      ROSTRO_NAMED_OPTION(O, parameter_tolerance),
+      ROSTRO_NAMED_OPTION(O, min_markers),
+      ROSTRO_NAMED_OPTION(O, head_faps),
+      ROSTRO_NAMED_OPTION(O, refine_default_focal),
+      ROSTRO_NAMED_OPTION(O, focal_prior_sigma),
+  };
+  set_named_option(options, table, "SolverOptions", assignment);
 }
 
 FapSolver::FapSolver(const calib::ActorProfile& profile, const SolverOptions& options)

@@ -105,6 +105,11 @@ struct SolverOptions {
   void validate() const;
 };
 
+// Sets one scalar field of `options` from "NAME=VALUE" (NAME a field's name as above, e.g.
+// "pose_prior_weight=0" or "model.fit_depth_faps=true"): for `rostro eval loop
+// --solver-option`. Throws InputError for an unknown name or a bad value.
+void set_solver_option(SolverOptions& options, const std::string& assignment);
+
 struct FitResult {
   FapFrame faps;            // fitted FAPs (profile gains applied); 48-50 if head_faps
   tracking::HeadPose pose;  // head frame -> camera frame (OpenCV convention)

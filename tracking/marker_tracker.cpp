@@ -10,6 +10,7 @@
 #include <opencv2/video/tracking.hpp>
 #include <optional>
 
+#include "facecore/named_options.hpp"
 #include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
 #include "tracking/identify.hpp"
@@ -1096,6 +1097,60 @@ void TrackerOptions::validate() const {
       .not_negative("inner_brow_core_tolerance", inner_brow_core_tolerance)
       .not_negative("min_identified", min_identified)
       .not_negative("threads", threads);
+}
+
+void set_tracker_option(TrackerOptions& options, const std::string& assignment) {
+  using O = TrackerOptions;
+  static const std::vector<NamedOption<O>> table = {
+      ROSTRO_NAMED_OPTION(O, dots.min_diameter_px),
+      ROSTRO_NAMED_OPTION(O, dots.max_diameter_px),
+      ROSTRO_NAMED_OPTION(O, dots.min_contrast),
+      ROSTRO_NAMED_OPTION(O, dots.min_roundness),
+      ROSTRO_NAMED_OPTION(O, dots.min_roundness_merged),
+      ROSTRO_NAMED_OPTION(O, dots.max_elongation),
+      ROSTRO_NAMED_OPTION(O, dots.max_surround),
+      ROSTRO_NAMED_OPTION(O, dots.edge_fit),
+      ROSTRO_NAMED_OPTION(O, dots.raise_share_for_roundness),
+      ROSTRO_NAMED_OPTION(O, dots.symmetric_centre),
+      ROSTRO_NAMED_OPTION(O, reference_dot_px),
+      ROSTRO_NAMED_OPTION(O, edge_fit_elsewhere),
+      ROSTRO_NAMED_OPTION(O, edge_fit_mid_brows),
+      ROSTRO_NAMED_OPTION(O, inner_corners_raise_share),
+      ROSTRO_NAMED_OPTION(O, inner_corners_symmetric_centre),
+      ROSTRO_NAMED_OPTION(O, inner_corner_max_elongation_large),
+      ROSTRO_NAMED_OPTION(O, lk_window),
+      ROSTRO_NAMED_OPTION(O, lk_levels),
+      ROSTRO_NAMED_OPTION(O, region_margin_px),
+      ROSTRO_NAMED_OPTION(O, max_fb_error),
+      ROSTRO_NAMED_OPTION(O, max_snap),
+      ROSTRO_NAMED_OPTION(O, min_contrast_ratio),
+      ROSTRO_NAMED_OPTION(O, tag_margin),
+      ROSTRO_NAMED_OPTION(O, tag_decimate_above_px),
+      ROSTRO_NAMED_OPTION(O, tag_redetect_every),
+      ROSTRO_NAMED_OPTION(O, search_fraction),
+      ROSTRO_NAMED_OPTION(O, max_eye_snap),
+      ROSTRO_NAMED_OPTION(O, lid_sideways_fraction),
+      ROSTRO_NAMED_OPTION(O, lid_overshoot_fraction),
+      ROSTRO_NAMED_OPTION(O, lid_reach),
+      ROSTRO_NAMED_OPTION(O, max_relative_motion),
+      ROSTRO_NAMED_OPTION(O, max_relative_motion_px),
+      ROSTRO_NAMED_OPTION(O, lower_lip_together),
+      ROSTRO_NAMED_OPTION(O, lower_lip_up),
+      ROSTRO_NAMED_OPTION(O, lower_lip_down),
+      ROSTRO_NAMED_OPTION(O, lower_lip_sideways),
+      ROSTRO_NAMED_OPTION(O, lower_lip_shape),
+      ROSTRO_NAMED_OPTION(O, max_dot_growth),
+      ROSTRO_NAMED_OPTION(O, max_dot_growth_found),
+      ROSTRO_NAMED_OPTION(O, eye_size_memory_frames),
+      ROSTRO_NAMED_OPTION(O, edge_on_elongation),
+      ROSTRO_NAMED_OPTION(O, max_lid_elongation),
+      ROSTRO_NAMED_OPTION(O, max_lid_surround),
+      ROSTRO_NAMED_OPTION(O, hold_merged_inner_brows),
+      ROSTRO_NAMED_OPTION(O, inner_brow_core_tolerance),
+      ROSTRO_NAMED_OPTION(O, min_identified),
+      ROSTRO_NAMED_OPTION(O, threads),
+  };
+  set_named_option(options, table, "TrackerOptions", assignment);
 }
 
 const char* to_string(LostReason r) {

@@ -178,6 +178,11 @@ struct TrackerOptions {
   void validate() const;
 };
 
+// Sets one field of `options` from "NAME=VALUE", NAME a field's name as above (a DotOptions
+// field as "dots.NAME"), e.g. "max_dot_growth=1.3" or "lower_lip_together=false": for
+// `rostro eval suite --tracker-option`. Throws InputError for an unknown name or a bad value.
+void set_tracker_option(TrackerOptions& options, const std::string& assignment);
+
 // Why a marker is not valid this frame: the rule that dropped it, kept while it stays lost, or
 // that it was never identified. `rostro eval suite` counts each per clip.
 enum class LostReason {

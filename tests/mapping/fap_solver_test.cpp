@@ -64,6 +64,18 @@ TEST(FapSolver, BadOptionIsNamedInOneLine) {
   }
 }
 
+TEST(FapSolver, OptionsSetByName) {
+  SolverOptions o;
+  set_solver_option(o, "pose_prior_weight=0");
+  set_solver_option(o, "max_iterations=40");
+  set_solver_option(o, "model.fit_depth_faps=true");
+  EXPECT_EQ(o.pose_prior_weight, 0);
+  EXPECT_EQ(o.max_iterations, 40);
+  EXPECT_TRUE(o.model.fit_depth_faps);
+  EXPECT_THROW(set_solver_option(o, "prior_weight_of=1"), InputError);
+  EXPECT_THROW(set_solver_option(o, "max_iterations=many"), InputError);
+}
+
 TEST(FapSolver, ExactProfileStillHeadNoiseFree) {
   const auto actor = make_actor();
   const auto neutral = head_pose(0, 0, 0);

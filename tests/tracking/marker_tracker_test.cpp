@@ -54,5 +54,33 @@ TEST(DotOptions, BadValueIsNamedInOneLine) {
   EXPECT_THROW(MarkerTracker tracker(default_layout(), o), InputError);
 }
 
+TEST(TrackerOptions, SetByName) {
+  TrackerOptions o;
+  set_tracker_option(o, "max_dot_growth=1.3");
+  set_tracker_option(o, "lower_lip_together=false");
+  set_tracker_option(o, "dots.max_elongation=4");
+  set_tracker_option(o, "lk_window=15");
+  EXPECT_EQ(o.max_dot_growth, 1.3);
+  EXPECT_FALSE(o.lower_lip_together);
+  EXPECT_EQ(o.dots.max_elongation, 4);
+  EXPECT_EQ(o.lk_window, 15);
+}
+
+TEST(TrackerOptions, BadNameOrValueIsOneLine) {
+  TrackerOptions o;
+  try {
+    set_tracker_option(o, "max_dot_grwth=1.3");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("TrackerOptions has no option 'max_dot_grwth' (known: ", 0), 0u) << what;
+    EXPECT_NE(what.find("max_dot_growth"), std::string::npos) << what;
+  }
+  EXPECT_THROW(set_tracker_option(o, "lk_window=13.5"), InputError);
+  EXPECT_THROW(set_tracker_option(o, "lower_lip_together=maybe"), InputError);
+  EXPECT_THROW(set_tracker_option(o, "max_snap"), InputError);
+  EXPECT_EQ(o.lk_window, TrackerOptions{}.lk_window);
+}
+
 }  // namespace
 }  // namespace rostro::tracking
