@@ -400,7 +400,7 @@ void add_eval_commands(CLI::App& app) {
                     "write the table into this Markdown file's \"## Suite table\" section");
   suite->add_option("--tracker-option", su.tracker_options,
                     "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. "
-                    "max_dot_growth=1.3, lower_lip_together=false, dots.max_elongation=4");
+                    "eyes.max_dot_growth=1.3, lower_lip.together=false, dots.max_elongation=4");
   suite->footer("Example:\n  rostro eval suite --markdown docs/accuracy.md");
   suite->callback([] { eval_suite(su); });
 
@@ -419,8 +419,9 @@ void add_eval_commands(CLI::App& app) {
                    "tracks (NAME.tracks.csv, NAME.truth.csv)");
   loop->add_option("--markdown", lo.markdown,
                    "write the tables into this Markdown file's \"## Closed loop: FAPs\" section");
-  loop->add_option("--tracker-option", lo.tracker_options,
-                   "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. max_dot_growth=1.3");
+  loop->add_option(
+      "--tracker-option", lo.tracker_options,
+      "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. eyes.max_dot_growth=1.3");
   loop->add_option("--solver-option", lo.solver_options,
                    "set a SolverOptions field for both Ceres fits, NAME=VALUE (repeatable), e.g. "
                    "pose_prior_weight=0");

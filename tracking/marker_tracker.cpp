@@ -110,21 +110,21 @@ struct MarkerTracker::Impl {
     centroid_dots = options.dots;
     centroid_dots.edge_fit = false;
     inner_corner_dots = options.dots;
-    inner_corner_dots.raise_share_for_roundness |= options.inner_corners_raise_share;
+    inner_corner_dots.raise_share_for_roundness |= options.eyes.inner_corners_raise_share;
     // The inner corners' centre from the raised share's blob (its centroid, then the symmetric
-    // centre, TrackerOptions::inner_corners_symmetric_centre), not the edge fit: the edge fit's
+    // centre, EyeOptions::inner_corners_symmetric_centre), not the edge fit: the edge fit's
     // rays there run along the slit's corner line and the lashes, and its centre moved with
     // the expression (Xface fear at 1280x720: 0.32-0.41 px frame-to-frame spread in x against
     // 0.14-0.18 for the centroid, which went into the head pose: pitch 5.8 -> 2.7 % of range).
     inner_corner_dots.edge_fit = false;
-    inner_corner_dots.symmetric_centre = options.inner_corners_symmetric_centre;
+    inner_corner_dots.symmetric_centre = options.eyes.inner_corners_symmetric_centre;
     inner_corner_dots_large = inner_corner_dots;
     inner_corner_dots_large.max_elongation =
-        std::max(options.dots.max_elongation, options.inner_corner_max_elongation_large);
+        std::max(options.dots.max_elongation, options.eyes.inner_corner_max_elongation_large);
     for (size_t i = 0; i < states.size(); ++i) {
       const DotRole r = roles[i];
       const bool edge_fit = tracking::at_eye(r) || options.edge_fit_elsewhere ||
-                            (options.edge_fit_mid_brows && r == DotRole::MidBrow);
+                            (options.brows.edge_fit_mid_brows && r == DotRole::MidBrow);
       const DotOptions* plain = edge_fit ? &options.dots : &centroid_dots;
       const bool inner_corner = r == DotRole::InnerEyeCorner;
       measured_with[0].push_back(inner_corner ? &inner_corner_dots : plain);
@@ -364,7 +364,7 @@ struct MarkerTracker::Impl {
           reference[i] = s.position = d->center;
       // An inner brow dot merged with the eyebrow's end is identified by the merged blob
       // (Xface joy with turns at 1280x720: 6 px off): its ink's core instead.
-      if (options.hold_merged_inner_brows && is_inner_brow(i))
+      if (options.brows.hold_merged_inner_brows && is_inner_brow(i))
         if (auto d = refine_dot(gray, s.position, 3, dot_options(i)); d && merged_with_brow(*d))
           reference[i] = s.position = merged_brow_position(d->center, s.position, *d);
       if (auto d = refine_dot(gray, s.position, 1.5, dot_options(i))) {
@@ -417,7 +417,7 @@ struct MarkerTracker::Impl {
   bool large_dots = false;  // the dots at the start at least reference_dot_px wide
   double max_fb_error() const { return options.max_fb_error * px; }
   double max_snap() const { return options.max_snap * px; }
-  double max_eye_snap() const { return options.max_eye_snap * px; }
+  double max_eye_snap() const { return options.eyes.max_eye_snap * px; }
   int lk_window() const {
     return static_cast<int>(std::lround(options.lk_window * std::sqrt(px))) | 1;
   }
@@ -432,16 +432,17 @@ struct MarkerTracker::Impl {
   // The first check dot d fails as marker i (None: it passes).
   LostReason dot_check(size_t i, const Dot& d, bool followed) const {
     const double was = recent_diameter[i] > 0 ? recent_diameter[i] : reference_diameter[i];
-    // (TrackerOptions::eye_size_memory_frames: an eye dot last seen edge-on and lost a short
+    // (EyeOptions::eye_size_memory_frames: an eye dot last seen edge-on and lost a short
     // while keeps its own size.)
-    const bool edge_on_lately = states[i].lost_frames < options.eye_size_memory_frames &&
-                                recent_elongation[i] >= options.edge_on_elongation;
+    const bool edge_on_lately = states[i].lost_frames < options.eyes.eye_size_memory_frames &&
+                                recent_elongation[i] >= options.eyes.edge_on_elongation;
     const double grown_from =
         followed || edge_on_lately ? was : std::max(was, reference_diameter[i] * face_scale);
     const double largest =
-        (followed ? options.max_dot_growth : options.max_dot_growth_found) * grown_from;
-    if (is_lid(i) && d.elongation > options.max_lid_elongation) return LostReason::LidElongation;
-    if (is_lid(i) && d.surround > options.max_lid_surround) return LostReason::LidSurround;
+        (followed ? options.eyes.max_dot_growth : options.eyes.max_dot_growth_found) * grown_from;
+    if (is_lid(i) && d.elongation > options.eyes.max_lid_elongation)
+      return LostReason::LidElongation;
+    if (is_lid(i) && d.surround > options.eyes.max_lid_surround) return LostReason::LidSurround;
     if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
       return LostReason::Contrast;
     if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
@@ -467,8 +468,8 @@ struct MarkerTracker::Impl {
                              d.roundness < kLeastRoundness);
   }
   // How dot i is measured: the edge fit at the eyes and the mid brows
-  // (TrackerOptions::edge_fit_elsewhere, edge_fit_mid_brows), but
-  // at the inner eye corners the raised share (TrackerOptions::inner_corners_raise_share) and
+  // (TrackerOptions::edge_fit_elsewhere, BrowOptions::edge_fit_mid_brows), but
+  // at the inner eye corners the raised share (EyeOptions::inner_corners_raise_share) and
   // the symmetric centre (inner_corners_symmetric_centre). The raised share not at the other eye
   // dots: on the lid dots the raised share would take two lid dots merged in a blink (not round at
   // half, round enough higher up, where 0.4 passes); on the outer corners at 640x480 it found dots
@@ -481,14 +482,14 @@ struct MarkerTracker::Impl {
   bool is_lid(size_t i) const { return roles[i] == DotRole::Lid; }
   double face_scale = 1;  // the face's size now over its size at the start
   // Where a merged inner brow dot is: the centre of its ink's core near `from`
-  // (TrackerOptions::inner_brow_core_tolerance), else `otherwise`.
+  // (BrowOptions::inner_brow_core_tolerance), else `otherwise`.
   cv::Point2d merged_brow_position(cv::Point2d from, cv::Point2d otherwise, const Dot& d) const {
-    if (options.inner_brow_core_tolerance <= 0) return otherwise;
+    if (options.brows.inner_brow_core_tolerance <= 0) return otherwise;
     // The disc reaches a fifth of the dot's width past its rim: room for LK's drift and for a
     // dot seen long and thin (at 1280x720 under a frown and a turn, 14 px long against 10 wide).
     constexpr double kReach = 0.7;
     const auto core = ink_core_centre(gray, from, kReach * d.diameter,
-                                      options.inner_brow_core_tolerance * d.contrast,
+                                      options.brows.inner_brow_core_tolerance * d.contrast,
                                       options.dots.polarity == DotPolarity::Dark);
     // (The merged blob's centre may lie most of the dot's width out along the eyebrow.)
     const double farthest = std::max(max_snap(), 0.5 * d.diameter);
@@ -624,10 +625,10 @@ struct MarkerTracker::Impl {
       if (s.lost_reason != LostReason::None) continue;
       s.valid = true;
       s.position = d->center;
-      // TrackerOptions::hold_merged_inner_brows. The snap check above still bounds how far LK may
+      // BrowOptions::hold_merged_inner_brows. The snap check above still bounds how far LK may
       // wander from the merged blob while it is held: past it the dot turns invalid and is
       // found again.
-      if (options.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(*d))
+      if (options.brows.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(*d))
         s.position = merged_brow_position(lk, lk, *d);
       recent_diameter[i] = 0.7 * recent_diameter[i] + 0.3 * d->diameter;
       recent_elongation[i] = d->elongation;
@@ -708,7 +709,7 @@ struct MarkerTracker::Impl {
   void reacquire_lost(const Flow& f) {
     remember_last_seen(f.was_valid, f.before, f.owner);
     predict_lost();
-    const bool lower_lip_searched = options.lower_lip_together && reacquire_lower_lip();
+    const bool lower_lip_searched = options.lower_lip.together && reacquire_lower_lip();
     for (size_t i = 0; i < states.size(); ++i)
       if (!states[i].valid && has_prediction[i] && !(lower_lip_searched && at_lower_lip(i)))
         reacquire(i);
@@ -902,8 +903,8 @@ struct MarkerTracker::Impl {
       s.valid = true;
       s.position = d.center;
       // A merged inner brow dot found again: its ink's core, not the merged blob's centre out
-      // along the eyebrow (TrackerOptions::inner_brow_core_tolerance).
-      if (options.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(d))
+      // along the eyebrow (BrowOptions::inner_brow_core_tolerance).
+      if (options.brows.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(d))
         s.position = merged_brow_position(d.center, d.center, d);
       recent_diameter[i] = d.diameter;
       recent_elongation[i] = d.elongation;
@@ -918,7 +919,7 @@ struct MarkerTracker::Impl {
     const std::optional<cv::Point2d> axis = lids.axis(i, reference, prediction_fit[i]);
     if (!axis) return true;
     return std::abs((at - predicted_at(i)).dot(*axis)) <=
-           options.lid_sideways_fraction * spacing[i] * scale;
+           options.eyes.lid_sideways_fraction * spacing[i] * scale;
   }
 
   LidGeometry lids;  // each lid dot's eye corners (lid_geometry.hpp)
@@ -936,8 +937,8 @@ struct MarkerTracker::Impl {
     const auto offset = lids.offset_from_corner_line(i, reference, at, states[inner].position,
                                                      states[outer].position);
     if (!offset) return true;
-    return offset->now >= -options.lid_overshoot_fraction * spacing[i] * face_scale &&
-           offset->now <= options.lid_reach * offset->at_start * face_scale;
+    return offset->now >= -options.eyes.lid_overshoot_fraction * spacing[i] * face_scale &&
+           offset->now <= options.eyes.lid_reach * offset->at_start * face_scale;
   }
 
   // ---- the lower lip (lower_lip_search.hpp) ---------------------------------------------
@@ -945,12 +946,12 @@ struct MarkerTracker::Impl {
   bool at_lower_lip(size_t i) const { return roles[i] == DotRole::LowerLip; }
   // The lower lip opens with the jaw by up to a spacing in a frame (Xface joy), unlike the
   // upper lip and the corners: its dots are no measure of how theirs should move
-  // (TrackerOptions::lower_lip_together; its own dots are still judged by theirs).
+  // (LowerLipOptions::together; its own dots are still judged by theirs).
   bool apart_from_lower_lip(size_t i, size_t j) const {
-    return options.lower_lip_together && at_lower_lip(j) && !at_lower_lip(i);
+    return options.lower_lip.together && at_lower_lip(j) && !at_lower_lip(i);
   }
 
-  // TrackerOptions::lower_lip_together: the lower lip's lost dots found again together
+  // LowerLipOptions::together: the lower lip's lost dots found again together
   // (find_lower_lip). Returns whether the lower lip was searched so (the single-dot search
   // then skips its dots).
   bool reacquire_lower_lip() {
@@ -967,8 +968,7 @@ struct MarkerTracker::Impl {
       scene.followed.push_back({i, s.position, spacing[i]});
     }
     LowerLipSearch search;
-    search.up = options.lower_lip_up, search.down = options.lower_lip_down;
-    search.sideways = options.lower_lip_sideways, search.shape = options.lower_lip_shape;
+    search.options = options.lower_lip;
     search.dots_near = [this](size_t k, cv::Point2d centre, double radius) {
       ensure_gray_around(centre, radius);
       const double least = options.min_contrast_ratio * reference_contrast[k];
@@ -1065,9 +1065,11 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
 
 void TrackerOptions::validate() const {
   dots.validate();
+  eyes.validate();
+  brows.validate();
+  lower_lip.validate();
   OptionCheck("TrackerOptions")
       .positive("reference_dot_px", reference_dot_px)
-      .at_least("inner_corner_max_elongation_large", inner_corner_max_elongation_large, 1)
       .positive("lk_window", lk_window)
       .not_negative("lk_levels", lk_levels)
       .not_negative("region_margin_px", region_margin_px)
@@ -1078,23 +1080,8 @@ void TrackerOptions::validate() const {
       .not_negative("tag_decimate_above_px", tag_decimate_above_px)
       .positive("tag_redetect_every", tag_redetect_every)
       .positive("search_fraction", search_fraction)
-      .positive("max_eye_snap", max_eye_snap)
-      .not_negative("lid_sideways_fraction", lid_sideways_fraction)
-      .not_negative("lid_overshoot_fraction", lid_overshoot_fraction)
-      .positive("lid_reach", lid_reach)
       .not_negative("max_relative_motion", max_relative_motion)
       .not_negative("max_relative_motion_px", max_relative_motion_px)
-      .not_negative("lower_lip_up", lower_lip_up)
-      .not_negative("lower_lip_down", lower_lip_down)
-      .not_negative("lower_lip_sideways", lower_lip_sideways)
-      .positive("lower_lip_shape", lower_lip_shape)
-      .at_least("max_dot_growth", max_dot_growth, 1)
-      .at_least("max_dot_growth_found", max_dot_growth_found, 1)
-      .not_negative("eye_size_memory_frames", eye_size_memory_frames)
-      .at_least("edge_on_elongation", edge_on_elongation, 1)
-      .at_least("max_lid_elongation", max_lid_elongation, 1)
-      .positive("max_lid_surround", max_lid_surround)
-      .not_negative("inner_brow_core_tolerance", inner_brow_core_tolerance)
       .not_negative("min_identified", min_identified)
       .not_negative("threads", threads);
 }
@@ -1114,10 +1101,10 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, dots.symmetric_centre),
       ROSTRO_NAMED_OPTION(O, reference_dot_px),
       ROSTRO_NAMED_OPTION(O, edge_fit_elsewhere),
-      ROSTRO_NAMED_OPTION(O, edge_fit_mid_brows),
-      ROSTRO_NAMED_OPTION(O, inner_corners_raise_share),
-      ROSTRO_NAMED_OPTION(O, inner_corners_symmetric_centre),
-      ROSTRO_NAMED_OPTION(O, inner_corner_max_elongation_large),
+      ROSTRO_NAMED_OPTION(O, brows.edge_fit_mid_brows),
+      ROSTRO_NAMED_OPTION(O, eyes.inner_corners_raise_share),
+      ROSTRO_NAMED_OPTION(O, eyes.inner_corners_symmetric_centre),
+      ROSTRO_NAMED_OPTION(O, eyes.inner_corner_max_elongation_large),
       ROSTRO_NAMED_OPTION(O, lk_window),
       ROSTRO_NAMED_OPTION(O, lk_levels),
       ROSTRO_NAMED_OPTION(O, region_margin_px),
@@ -1128,25 +1115,25 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, tag_decimate_above_px),
       ROSTRO_NAMED_OPTION(O, tag_redetect_every),
       ROSTRO_NAMED_OPTION(O, search_fraction),
-      ROSTRO_NAMED_OPTION(O, max_eye_snap),
-      ROSTRO_NAMED_OPTION(O, lid_sideways_fraction),
-      ROSTRO_NAMED_OPTION(O, lid_overshoot_fraction),
-      ROSTRO_NAMED_OPTION(O, lid_reach),
+      ROSTRO_NAMED_OPTION(O, eyes.max_eye_snap),
+      ROSTRO_NAMED_OPTION(O, eyes.lid_sideways_fraction),
+      ROSTRO_NAMED_OPTION(O, eyes.lid_overshoot_fraction),
+      ROSTRO_NAMED_OPTION(O, eyes.lid_reach),
       ROSTRO_NAMED_OPTION(O, max_relative_motion),
       ROSTRO_NAMED_OPTION(O, max_relative_motion_px),
-      ROSTRO_NAMED_OPTION(O, lower_lip_together),
-      ROSTRO_NAMED_OPTION(O, lower_lip_up),
-      ROSTRO_NAMED_OPTION(O, lower_lip_down),
-      ROSTRO_NAMED_OPTION(O, lower_lip_sideways),
-      ROSTRO_NAMED_OPTION(O, lower_lip_shape),
-      ROSTRO_NAMED_OPTION(O, max_dot_growth),
-      ROSTRO_NAMED_OPTION(O, max_dot_growth_found),
-      ROSTRO_NAMED_OPTION(O, eye_size_memory_frames),
-      ROSTRO_NAMED_OPTION(O, edge_on_elongation),
-      ROSTRO_NAMED_OPTION(O, max_lid_elongation),
-      ROSTRO_NAMED_OPTION(O, max_lid_surround),
-      ROSTRO_NAMED_OPTION(O, hold_merged_inner_brows),
-      ROSTRO_NAMED_OPTION(O, inner_brow_core_tolerance),
+      ROSTRO_NAMED_OPTION(O, lower_lip.together),
+      ROSTRO_NAMED_OPTION(O, lower_lip.up),
+      ROSTRO_NAMED_OPTION(O, lower_lip.down),
+      ROSTRO_NAMED_OPTION(O, lower_lip.sideways),
+      ROSTRO_NAMED_OPTION(O, lower_lip.shape),
+      ROSTRO_NAMED_OPTION(O, eyes.max_dot_growth),
+      ROSTRO_NAMED_OPTION(O, eyes.max_dot_growth_found),
+      ROSTRO_NAMED_OPTION(O, eyes.eye_size_memory_frames),
+      ROSTRO_NAMED_OPTION(O, eyes.edge_on_elongation),
+      ROSTRO_NAMED_OPTION(O, eyes.max_lid_elongation),
+      ROSTRO_NAMED_OPTION(O, eyes.max_lid_surround),
+      ROSTRO_NAMED_OPTION(O, brows.hold_merged_inner_brows),
+      ROSTRO_NAMED_OPTION(O, brows.inner_brow_core_tolerance),
       ROSTRO_NAMED_OPTION(O, min_identified),
       ROSTRO_NAMED_OPTION(O, threads),
   };

@@ -161,7 +161,7 @@ double worst_inner_corner_error(const TrackerOptions& options) {
 TEST(InnerCorner, TrackerHoldsTheInnerCornersAsTheLineGrows) {
   EXPECT_LT(worst_inner_corner_error({}), 0.1);
   TrackerOptions centroid;
-  centroid.inner_corners_symmetric_centre = false;
+  centroid.eyes.inner_corners_symmetric_centre = false;
   EXPECT_GT(worst_inner_corner_error(centroid), 0.3) << "the drawing does not pull the centroid";
 }
 
