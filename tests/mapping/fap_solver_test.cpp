@@ -6,8 +6,8 @@
 #include "calib/actor_calibration.hpp"
 #include "facecore/error.hpp"
 #include "mapping/fap_mapper.hpp"
-#include "tests/mapping/model_projection.hpp"
-#include "tests/mapping/synthetic_face.hpp"
+#include "tests/support/model_projection.hpp"
+#include "tests/support/synthetic_face.hpp"
 
 namespace rostro::mapping {
 namespace {

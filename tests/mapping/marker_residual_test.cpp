@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "tests/mapping/synthetic_face.hpp"
+#include "tests/support/synthetic_face.hpp"
 
 namespace rostro::mapping::internal {
 namespace {

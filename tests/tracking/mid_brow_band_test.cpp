@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include "tests/tracking/drawn_layout.hpp"
+#include "tests/support/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 

@@ -9,7 +9,7 @@
 #include <set>
 
 #include "facecore/error.hpp"
-#include "tests/tracking/synthetic_scene.hpp"
+#include "tests/support/synthetic_scene.hpp"
 #include "tracking/apriltag_detector.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/layout.hpp"
