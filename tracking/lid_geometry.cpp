@@ -33,6 +33,8 @@ void EyeOptions::validate() const {
       .positive("max_lid_surround", max_lid_surround);
 }
 
+namespace internal {
+
 bool is_eye_point(const FeaturePointId& fp) {
   return fp.group == 3;
 }
@@ -88,4 +90,5 @@ std::optional<LidGeometry::LineOffset> LidGeometry::offset_from_corner_line(
   return o;
 }
 
+}  // namespace internal
 }  // namespace rostro::tracking

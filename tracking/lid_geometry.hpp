@@ -2,8 +2,7 @@
 // Where a lid dot can be: the eye's dots (MPEG-4 group 3) told apart, each lid dot's eye
 // corners found in the layout, and a point's place relative to the line through those corners.
 // The tracker uses it to keep a lid dot off the brow's, the other lid's and a corner's dot
-// (internal to the tracking library), and EyeOptions, the eye dots' rules, are part of
-// TrackerOptions.
+// (rostro::tracking::internal). EyeOptions, the eye dots' rules, are part of TrackerOptions.
 
 #include <cstddef>
 #include <opencv2/core.hpp>
@@ -86,6 +85,8 @@ struct EyeOptions {
   void validate() const;
 };
 
+namespace internal {
+
 // MPEG-4 group 3: the lids and the eye corners.
 bool is_eye_point(const FeaturePointId& fp);
 // MPEG-4 3.1-3.4: the upper and lower lids' midpoints (odd: the face's left eye).
@@ -124,4 +125,5 @@ class LidGeometry {
   std::vector<std::optional<std::pair<size_t, size_t>>> corners_;
 };
 
+}  // namespace internal
 }  // namespace rostro::tracking

@@ -17,6 +17,8 @@ void LowerLipOptions::validate() const {
       .positive("shape", shape);
 }
 
+namespace internal {
+
 bool at_lower_lip(const FeaturePointId& fp) {
   return fp.group == 8 && (fp.index == 2 || fp.index == 7 || fp.index == 8);
 }
@@ -150,4 +152,5 @@ std::optional<std::vector<LowerLipFound>> find_lower_lip(const LowerLipScene& sc
   return out;
 }
 
+}  // namespace internal
 }  // namespace rostro::tracking

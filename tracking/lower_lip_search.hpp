@@ -1,6 +1,6 @@
 #pragma once
 // The lower lip's dots found again together (LowerLipOptions::together, part of
-// TrackerOptions), internal to the tracking library: MarkerTracker hands over the mouth's dots and
+// TrackerOptions), in rostro::tracking::internal: MarkerTracker hands over the mouth's dots and
 // two callbacks (finding dots in a window, checking one found) and takes back the dots found.
 //
 // The lower lip's dots, lost together when the mouth opens or shuts within a frame, are found
@@ -21,11 +21,6 @@
 #include "tracking/dot_detector.hpp"
 
 namespace rostro::tracking {
-
-// MPEG-4 8.2, 8.7, 8.8: the outer lower lip's dots.
-bool at_lower_lip(const FeaturePointId& fp);
-// MPEG-4 8.1 and 8.3-8.6: the upper lip's and the mouth corners' dots.
-bool at_upper_lip_or_corner(const FeaturePointId& fp);
 
 // The lower lip's rules, TrackerOptions::lower_lip.
 struct LowerLipOptions {
@@ -50,6 +45,13 @@ struct LowerLipOptions {
   // Throws InputError naming the first option out of range ("LowerLipOptions::...").
   void validate() const;
 };
+
+namespace internal {
+
+// MPEG-4 8.2, 8.7, 8.8: the outer lower lip's dots.
+bool at_lower_lip(const FeaturePointId& fp);
+// MPEG-4 8.1 and 8.3-8.6: the upper lip's and the mouth corners' dots.
+bool at_upper_lip_or_corner(const FeaturePointId& fp);
 
 // One of the lower lip's dots (not a tag) as the tracker has it this frame.
 struct LowerLipDot {
@@ -102,4 +104,5 @@ std::optional<cv::Matx23d> mouth_frame(const std::vector<cv::Point2d>& from,
 std::optional<std::vector<LowerLipFound>> find_lower_lip(const LowerLipScene& scene,
                                                          const LowerLipSearch& search);
 
+}  // namespace internal
 }  // namespace rostro::tracking

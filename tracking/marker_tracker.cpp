@@ -20,6 +20,9 @@
 #include "tracking/lower_lip_search.hpp"
 
 namespace rostro::tracking {
+
+using namespace internal;  // the eyes' geometry and the lower lip's search
+
 namespace {
 
 cv::Point2d mean_of(const std::array<cv::Point2d, 4>& c) {
