@@ -22,7 +22,9 @@
 #include "facecore/expression_library.hpp"
 #include "facecore/face_model.hpp"
 #include "facecore/fap_io.hpp"
+#include "mapping/fap_solver.hpp"
 #include "tracking/layout.hpp"
+#include "tracking/marker_tracker.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
@@ -189,13 +191,31 @@ struct Scene {
 
 struct SuiteArgs {
   std::string suite, layout, markdown, only;
+  std::vector<std::string> tracker_options;  // NAME=VALUE
 };
+
+tracking::TrackerOptions tracker_options(const std::vector<std::string>& assignments) {
+  tracking::TrackerOptions o;
+  for (const std::string& a : assignments) tracking::set_tracker_option(o, a);
+  o.validate();
+  return o;
+}
+
+// " with --tracker-option A=1 ...", for the report's first line; empty for the defaults.
+std::string options_note(const std::vector<std::string>& tracker,
+                         const std::vector<std::string>& solver) {
+  std::string out;
+  for (const std::string& a : tracker) out += " --tracker-option " + a;
+  for (const std::string& a : solver) out += " --solver-option " + a;
+  return out.empty() ? out : " with" + out;
+}
 
 void eval_suite(const SuiteArgs& a) {
   require_extension(a.markdown, ".md", "--markdown");
   const eval::SuiteDefinition suite = eval::load_suite(
       a.suite.empty() ? eval::default_suite_path() : std::filesystem::path(a.suite));
   const auto chosen = chosen_scenarios(suite.scenarios, a.only);
+  const tracking::TrackerOptions tracker = tracker_options(a.tracker_options);
   const Scene scene(a.layout);
 
   std::vector<eval::SuiteRow> rows;
@@ -203,16 +223,22 @@ void eval_suite(const SuiteArgs& a) {
     const auto& s = chosen[i];
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.seconds * s.fps));
-    rows.push_back(eval::run_scenario(s, scene.model, &scene.library, scene.layout,
-                                      [&](long done, long) { progress.update(done); }));
+    rows.push_back(eval::run_scenario(
+        s, scene.model, &scene.library, scene.layout,
+        [&](long done, long) { progress.update(done); }, tracker));
     progress.finish();
   }
   std::fputs(eval::suite_table_text(rows).c_str(), stdout);
+  std::printf("\nlost marker-frames by the rule that dropped them\n%s",
+              eval::loss_table_text(rows).c_str());
   if (!a.markdown.empty()) {
     const std::string body = fmt::format(
-        "Written by `rostro eval suite --markdown` (rostro {}) on {}.\n\n{}", ROSTRO_VERSION,
+        "Written by `rostro eval suite --markdown`{} (rostro {}) on {}.\n\n{}\nLost "
+        "marker-frames by the rule that dropped them (tracking::LostReason, kept while the "
+        "marker stays lost; every layout marker, visible in the truth or not):\n\n{}",
+        options_note(a.tracker_options, {}), ROSTRO_VERSION,
         fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
-        eval::suite_table_markdown(rows));
+        eval::suite_table_markdown(rows), eval::loss_table_markdown(rows));
     eval::replace_markdown_section(a.markdown, "## Suite table", body);
     std::printf("table written to %s (section \"Suite table\")\n", a.markdown.c_str());
   }
@@ -221,6 +247,7 @@ void eval_suite(const SuiteArgs& a) {
 struct LoopArgs {
   std::string file, layout, markdown, only, out;
   FaceTrackerArgs face;  // --markerless: the head rendered bare, tracked by its landmarks
+  std::vector<std::string> tracker_options, solver_options;  // NAME=VALUE
 };
 
 std::string describe_drive(const eval::LoopScenario& s) {
@@ -242,6 +269,10 @@ void eval_loop(const LoopArgs& a) {
   const eval::LoopDefinition loop = eval::load_closed_loop(
       a.file.empty() ? eval::default_closed_loop_path() : std::filesystem::path(a.file));
   const auto chosen = chosen_scenarios(loop.scenarios, a.only);
+  const tracking::TrackerOptions tracker = tracker_options(a.tracker_options);
+  mapping::SolverOptions solver;
+  for (const std::string& s : a.solver_options) mapping::set_solver_option(solver, s);
+  solver.validate();
   const Scene scene(a.layout);
 
   std::vector<eval::LoopResult> results;
@@ -259,10 +290,10 @@ void eval_loop(const LoopArgs& a) {
     const auto show = [&](long done, long) { progress.update(done); };
     if (a.face.markerless)
       results.push_back(eval::run_loop_scenario(
-          s, scene.model, &scene.library, [&] { return a.face.make(); }, show));
+          s, scene.model, &scene.library, [&] { return a.face.make(); }, show, solver));
     else
-      results.push_back(
-          eval::run_loop_scenario(s, scene.model, &scene.library, scene.layout, show));
+      results.push_back(eval::run_loop_scenario(s, scene.model, &scene.library, scene.layout, show,
+                                                tracker, solver));
     progress.finish();
     if (!a.out.empty()) {
       // The streams behind the tables, for `rostro eval faps --plot`, and the tracks behind
@@ -288,15 +319,16 @@ void eval_loop(const LoopArgs& a) {
     std::string flag = a.face.markerless ? " --markerless" : "";
     if (!a.file.empty()) flag += " --file " + a.file;
     std::string body = fmt::format(
-        "Written by `rostro eval loop{} --markdown` (rostro {}) on {}; scenarios in "
+        "Written by `rostro eval loop{} --markdown`{} (rostro {}) on {}; scenarios in "
         "`{}`. Each clip is rendered in-process (no video "
         "file), {}, and mapped by `mapping::TakeMapper` as "
         "`rostro capture` maps a take without a profile: the actor calibrated from the first "
         "second (the neutral lead-in), the clip's own camera intrinsics, the default "
         "hierarchy.\n\n```sh\nrostro eval loop{}                               # prints the "
         "tables\nrostro eval loop{} --markdown docs/accuracy.md   # and rewrites this "
-        "section\n```\n\n{}\n\n{}{}\n{}",
-        flag, ROSTRO_VERSION, fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        "section\nrostro eval loop --only still,turns            # a subset\n```\n\n{}\n\n{}{}\n{}",
+        flag, options_note(a.tracker_options, a.solver_options), ROSTRO_VERSION,
+        fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
         a.file.empty() ? "data/eval/closed_loop.json" : a.file,
         a.face.markerless ? "the head bare, tracked by dlib's 68 landmarks (`--markerless`)"
                           : "tracked with automatic identification of the markers",
@@ -384,6 +416,9 @@ void add_eval_commands(CLI::App& app) {
   suite->add_option("--only", su.only, "run only these scenarios, e.g. still,turns");
   suite->add_option("--markdown", su.markdown,
                     "write the table into this Markdown file's \"## Suite table\" section");
+  suite->add_option("--tracker-option", su.tracker_options,
+                    "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. "
+                    "eyes.max_dot_growth=1.3, lower_lip.together=false, dots.max_elongation=4");
   suite->footer("Example:\n  rostro eval suite --markdown docs/accuracy.md");
   suite->callback([] { eval_suite(su); });
 
@@ -407,6 +442,12 @@ void add_eval_commands(CLI::App& app) {
                    "tracks (NAME.tracks.csv, NAME.truth.csv)");
   loop->add_option("--markdown", lo.markdown,
                    "write the tables into this Markdown file's \"## Closed loop: FAPs\" section");
+  loop->add_option(
+      "--tracker-option", lo.tracker_options,
+      "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. eyes.max_dot_growth=1.3");
+  loop->add_option("--solver-option", lo.solver_options,
+                   "set a SolverOptions field for both Ceres fits, NAME=VALUE (repeatable), e.g. "
+                   "pose_prior_weight=0");
   loop->footer(
       "Drives under shared: come from $ROSTRO_SHARED (default ../shared); absent ones are "
       "skipped.\n\nExample:\n  rostro eval loop --only still,turns\n  rostro eval loop "

@@ -17,7 +17,9 @@ function(rostro_library stage)
 endfunction()
 
 # rostro_test(<name> SOURCES ... DEPS ...) defines a GoogleTest executable registered with ctest.
-# Tests learn where data/ and ../shared are through compile definitions.
+# Tests learn where data/ and ../shared are through compile definitions. Each test's ctest name
+# starts with its stage, the tests/ subfolder it is defined in (tracking/Tracker.Occlusions...),
+# so that `ctest -R '^tracking/'` runs one stage.
 function(rostro_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
@@ -26,6 +28,7 @@ function(rostro_test name)
   target_compile_definitions(${name} PRIVATE
     ROSTRO_SHARED_DIR="${ROSTRO_SHARED_DIR}" ROSTRO_DATA_DIR="${ROSTRO_DATA_DIR}"
     ROSTRO_BINARY_DIR="${PROJECT_BINARY_DIR}")
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES ENVIRONMENT
+  file(RELATIVE_PATH stage "${PROJECT_SOURCE_DIR}/tests" "${CMAKE_CURRENT_SOURCE_DIR}")
+  gtest_discover_tests(${name} TEST_PREFIX "${stage}/" DISCOVERY_TIMEOUT 60 PROPERTIES ENVIRONMENT
     "ROSTRO_DATA=${ROSTRO_DATA_DIR}")
 endfunction()

@@ -228,15 +228,19 @@ const LoopScore& LoopResult::score(LoopMethod m) const {
 
 LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
                              const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
-                             const LoopProgress& progress) {
+                             const LoopProgress& progress,
+                             const tracking::TrackerOptions& tracker_options,
+                             const mapping::SolverOptions& solver_options) {
   return run_loop_scenario(
-      s, model, library, [&layout] { return std::make_unique<tracking::MarkerTracker>(layout); },
-      progress);
+      s, model, library,
+      [&] { return std::make_unique<tracking::MarkerTracker>(layout, tracker_options); }, progress,
+      solver_options);
 }
 
 LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
                              const ExpressionLibrary* library, const TrackerFactory& make_tracker,
-                             const LoopProgress& progress) {
+                             const LoopProgress& progress,
+                             const mapping::SolverOptions& solver_options) {
   const FapStream drive = loop_drive(s);
   const double fps = drive.header.fps;
   const long total = static_cast<long>(drive.frames.size());
@@ -267,6 +271,7 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   for (LoopMethod m : kLoopMethods) {
     mapping::MapperOptions options;
     options.method = m == LoopMethod::Seed2d ? mapping::Method::Seed2d : mapping::Method::Ceres;
+    options.solver = solver_options;
     options.hierarchy = mapping::default_hierarchy();  // as `rostro capture` maps by default
     mapping::TakeMapper take(layout, options, truth.intrinsics, std::nullopt, calibration_frames);
     FapStream est;

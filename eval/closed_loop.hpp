@@ -35,8 +35,10 @@
 #include "eval/fap_metrics.hpp"
 #include "eval/head_sweeps.hpp"
 #include "eval/synth.hpp"
+#include "mapping/fap_solver.hpp"
 #include "tracking/face_tracker.hpp"
 #include "tracking/layout.hpp"
+#include "tracking/marker_tracker.hpp"
 
 namespace rostro::eval {
 
@@ -118,14 +120,18 @@ using LoopProgress = std::function<void(long, long)>;
 // calibrated on.
 using TrackerFactory = std::function<std::unique_ptr<tracking::FaceTracker>()>;
 
-// Runs one scenario (not a skipped one). Throws render::RenderUnavailable without OpenGL.
+// Runs one scenario (not a skipped one), tracked by make_tracker()'s tracker and fitted (both
+// Ceres methods) with `solver_options`. Throws render::RenderUnavailable without OpenGL.
 LoopResult run_loop_scenario(const LoopScenario& scenario, const FaceModel& model,
                              const ExpressionLibrary* library, const TrackerFactory& make_tracker,
-                             const LoopProgress& progress = {});
-// The same with a MarkerTracker on `layout`.
+                             const LoopProgress& progress = {},
+                             const mapping::SolverOptions& solver_options = {});
+// The same with a MarkerTracker on `layout` with `tracker_options`.
 LoopResult run_loop_scenario(const LoopScenario& scenario, const FaceModel& model,
                              const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
-                             const LoopProgress& progress = {});
+                             const LoopProgress& progress = {},
+                             const tracking::TrackerOptions& tracker_options = {},
+                             const mapping::SolverOptions& solver_options = {});
 
 // The summary (scenario x method: mean and max share over the tracked FAPs, worst FAP, aim,
 // met) and one per-FAP table per scenario (RMS in the FAP's unit and as a share of range).

@@ -28,10 +28,13 @@ class TrackingSink : public render::FrameSink {
   void write(const cv::Mat& bgr) override {
     tracked.push_back(tracker_.track(bgr, count_, static_cast<double>(count_) / fps_));
     ++count_;
+    for (const tracking::MarkerState& s : tracker_.states())
+      if (!s.valid) ++lost_by[static_cast<std::size_t>(s.lost_reason)];
   }
   void finish() override {}
   long frames_written() const override { return count_; }
   std::vector<tracking::TrackedFrame> tracked;
+  std::array<long, tracking::kLostReasonCount> lost_by{};
 
  private:
   tracking::MarkerTracker& tracker_;
@@ -103,7 +106,8 @@ SuiteDefinition load_suite(const std::filesystem::path& path) {
 
 SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
                       const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
-                      const std::function<void(long, long)>& progress) {
+                      const std::function<void(long, long)>& progress,
+                      const tracking::TrackerOptions& tracker_options) {
   FapStream drive = s.fap.empty() ? range_of_motion(s.fps) : read_fap_stream(s.fap);
   if (s.fap.empty()) drive.header.fps = s.fps;
   const auto keep = static_cast<std::size_t>(std::lround(s.seconds * drive.header.fps));
@@ -114,7 +118,7 @@ SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
   o.dot_diameter_mm = layout.dot_diameter_mm;
   o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
   const auto markers = place_markers(model, layout);
-  tracking::MarkerTracker tracker(layout);
+  tracking::MarkerTracker tracker(layout, tracker_options);
   TrackingSink sink(tracker, drive.header.fps);
   const long total = drive.header.frame_count;
   const SynthResult truth = synthesize(model, library, markers, drive, o, sink, [&](long done) {
@@ -125,6 +129,7 @@ SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
   row.title = s.title;
   row.frames = total;
   row.result = evaluate_tracks(truth.truth, sink.tracked);
+  row.lost_by = sink.lost_by;
   return row;
 }
 
@@ -151,6 +156,56 @@ std::string suite_table_text(const std::vector<SuiteRow>& rows) {
     out += fmt::format("{:<12} {:>6} {:>9.4f} {:>9.3f} {:>9} {:>12} {:>14}\n", r.name, r.frames,
                        e.nme.mean, e.auc, percent(e.failure_rate), e.lost_frames,
                        fmt::format("{} ({})", e.swap_observations, e.swap_events));
+  }
+  return out;
+}
+
+namespace {
+
+// The reasons any row counts, in LostReason order.
+std::vector<tracking::LostReason> reasons_counted(const std::vector<SuiteRow>& rows) {
+  std::vector<tracking::LostReason> out;
+  for (int k = 0; k < tracking::kLostReasonCount; ++k)
+    for (const SuiteRow& r : rows)
+      if (r.lost_by[static_cast<std::size_t>(k)] > 0) {
+        out.push_back(static_cast<tracking::LostReason>(k));
+        break;
+      }
+  return out;
+}
+
+long count(const SuiteRow& r, tracking::LostReason reason) {
+  return r.lost_by[static_cast<std::size_t>(reason)];
+}
+
+}  // namespace
+
+std::string loss_table_markdown(const std::vector<SuiteRow>& rows) {
+  const auto reasons = reasons_counted(rows);
+  std::string out = "| scenario |", rule = "|---|";
+  for (const tracking::LostReason r : reasons)
+    out += fmt::format(" {} |", tracking::to_string(r)), rule += "---:|";
+  out += "\n" + rule + "\n";
+  for (const SuiteRow& row : rows) {
+    out += fmt::format("| {} |", row.title);
+    for (const tracking::LostReason r : reasons) out += fmt::format(" {} |", count(row, r));
+    out += "\n";
+  }
+  return out;
+}
+
+std::string loss_table_text(const std::vector<SuiteRow>& rows) {
+  const auto reasons = reasons_counted(rows);
+  std::string out = fmt::format("{:<12}", "scenario");
+  for (const tracking::LostReason r : reasons)
+    out +=
+        fmt::format(" {:>{}}", tracking::to_string(r), std::string(tracking::to_string(r)).size());
+  out += "\n";
+  for (const SuiteRow& row : rows) {
+    out += fmt::format("{:<12}", row.name);
+    for (const tracking::LostReason r : reasons)
+      out += fmt::format(" {:>{}}", count(row, r), std::string(tracking::to_string(r)).size());
+    out += "\n";
   }
   return out;
 }

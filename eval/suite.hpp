@@ -12,6 +12,7 @@
 // folder), yaw, pitch, roll, motion_period, distance_amp, brightness, light, noise,
 // motion_blur, occluder (true/false), as the `rostro synth` options of the same names.
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -19,6 +20,7 @@
 
 #include "eval/synth.hpp"
 #include "eval/track_metrics.hpp"
+#include "tracking/marker_tracker.hpp"
 
 namespace rostro::eval {
 
@@ -43,19 +45,28 @@ struct SuiteRow {
   std::string name, title;
   long frames = 0;
   TrackEvalResult result;
+  // Marker-frames the tracker reported lost, by tracking::LostReason (None stays 0): every
+  // layout marker, visible in the truth or not.
+  std::array<long, tracking::kLostReasonCount> lost_by{};
 };
 
 // Progress: (scenario index, frames done in it, frames in it).
 using SuiteProgress = std::function<void(std::size_t, long, long)>;
 
-// Runs one scenario with `layout` on `model`. Throws render::RenderUnavailable without OpenGL.
+// Runs one scenario with `layout` on `model`, tracked with `tracker_options`. Throws
+// render::RenderUnavailable without OpenGL.
 SuiteRow run_scenario(const SuiteScenario& scenario, const FaceModel& model,
                       const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
-                      const std::function<void(long, long)>& progress = {});
+                      const std::function<void(long, long)>& progress = {},
+                      const tracking::TrackerOptions& tracker_options = {});
 
 // The table: scenario, NME mean, AUC@0.08, failure rate, lost frames, swaps (events).
 std::string suite_table_markdown(const std::vector<SuiteRow>& rows);
 std::string suite_table_text(const std::vector<SuiteRow>& rows);
+// The lost marker-frames by the rule that dropped them: a column per tracking::LostReason
+// that any row counts.
+std::string loss_table_markdown(const std::vector<SuiteRow>& rows);
+std::string loss_table_text(const std::vector<SuiteRow>& rows);
 
 // Replaces the section that starts with the line `heading` (up to the next "## " heading) in
 // the Markdown file `path` by `heading` + `body`, or appends it when absent; the rest of the

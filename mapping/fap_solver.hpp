@@ -99,7 +99,16 @@ struct SolverOptions {
   // pose and FAPs (a frontal face says almost nothing about f, a turned one does).
   bool refine_default_focal = true;
   double focal_prior_sigma = 0.2;  // of log f: how firmly the guess is held
+
+  // Throws InputError naming the first option out of range (a negative weight,
+  // max_iterations <= 0, ...). FapSolver's constructor calls it.
+  void validate() const;
 };
+
+// Sets one scalar field of `options` from "NAME=VALUE" (NAME a field's name as above, e.g.
+// "pose_prior_weight=0" or "model.fit_depth_faps=true"): for `rostro eval loop
+// --solver-option`. Throws InputError for an unknown name or a bad value.
+void set_solver_option(SolverOptions& options, const std::string& assignment);
 
 struct FitResult {
   FapFrame faps;            // fitted FAPs (profile gains applied); 48-50 if head_faps

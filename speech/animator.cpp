@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "facecore/option_check.hpp"
+
 namespace rostro::speech {
 namespace {
 
@@ -17,11 +19,21 @@ int key_viseme(const Key& key, const std::vector<Phoneme>& p) {
 
 }  // namespace
 
+void AnimationOptions::validate() const {
+  OptionCheck("AnimationOptions")
+      .positive("fps", fps)
+      .within("base_expression", base_expression, 0, kExpressionCount - 1)
+      .within("base_intensity", base_intensity, 0, 1);
+}
+
 Animator::Animator(std::vector<Phoneme> phonemes, double duration_s,
                    std::vector<EmotionEvent> emotions, const ExpressionLibrary& library,
                    const KeyShapes& shapes, const BehaviourSettings& behaviour,
                    const AnimationOptions& options)
-    : phonemes_(std::move(phonemes)), options_(options), shapes_(shapes), behaviour_(behaviour) {
+    : phonemes_(std::move(phonemes)),
+      options_(validated(options)),
+      shapes_(shapes),
+      behaviour_(behaviour) {
   for (int e = 0; e < kExpressionCount; ++e)
     expressions_[static_cast<std::size_t>(e)] = low_level_vector(library.expression(e));
 

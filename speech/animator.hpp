@@ -36,6 +36,10 @@ struct AnimationOptions {
   PlannerOptions planner;
   int base_expression = 0;  // the emotion before the first event (0 neutral)
   double base_intensity = 1.0;
+
+  // Throws InputError naming the first option out of range (fps <= 0, an intensity outside
+  // 0..1, ...). Animator's constructor calls it.
+  void validate() const;
 };
 
 class Animator {

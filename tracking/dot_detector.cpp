@@ -7,6 +7,7 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
+#include "facecore/option_check.hpp"
 #include "tracking/box_mean.hpp"
 
 namespace rostro::tracking {
@@ -858,6 +859,17 @@ std::vector<Dot> detect_dots(const cv::Mat& gray, const DotOptions& options, cv:
   std::sort(dots.begin(), dots.end(),
             [](const Dot& a, const Dot& b) { return a.contrast > b.contrast; });
   return dots;
+}
+
+void DotOptions::validate() const {
+  OptionCheck("DotOptions")
+      .positive("min_diameter_px", min_diameter_px)
+      .at_least("max_diameter_px", max_diameter_px, min_diameter_px)
+      .not_negative("min_contrast", min_contrast)
+      .within("min_roundness", min_roundness, 0, 1)
+      .within("min_roundness_merged", min_roundness_merged, 0, 1)
+      .at_least("max_elongation", max_elongation, 1)
+      .positive("max_surround", max_surround);
 }
 
 }  // namespace rostro::tracking

@@ -54,6 +54,10 @@ struct DotOptions {
   // 0.45 px more toward the eye than on a still face; symmetric, 0.04). The blob, size and
   // checks are as without it; the edge fit, if on, starts from here.
   bool symmetric_centre = false;
+
+  // Throws InputError naming the first option out of range (a size or contrast below 0, a
+  // roundness outside 0..1, ...).
+  void validate() const;
 };
 
 struct Dot {

@@ -17,7 +17,38 @@
 #include <optional>
 #include <vector>
 
+#include "facecore/option_check.hpp"
+
 namespace rostro::tracking {
+
+// The brow dots' rules (MPEG-4 4.1-4.4), TrackerOptions::brows.
+struct BrowOptions {
+  // The edge-fitted centre for the mid-brow dots (4.3, 4.4) too. They sit on the eyebrow, a
+  // band lighter than the ink that the brow's raise moves against the dot: the centroid was
+  // pulled toward the band's larger side (Xface fear at 640x480: 0.3 px down, spread 0.1 px;
+  // edge-fitted 0.1 px and 0.03; raise_m_eyebrow 5.2-5.8 -> 2.1 % of range).
+  bool edge_fit_mid_brows = true;
+  // An inner brow dot (4.1, 4.2) sits at the eyebrow's end. Where the eyebrow (nearly as dark
+  // as the ink) touches it, the two merge at every share of the dot's contrast and the blob's
+  // centre, and its edge, lie up to 2 px out along the eyebrow (closed loop, head turns at
+  // 640x480: squeeze_eyebrow 14 % of range). Such a blob (measured above half its contrast, and
+  // still not at 0.9, or long or ragged there) does not place the dot by its centre
+  // (tests/tracking/brow_merge_test.cpp). false: the blob's centre.
+  bool hold_merged_inner_brows = true;
+  // Such a dot is placed at the centre of its ink's core (ink_core_centre() below): the pixels
+  // within this share of its contrast of the darkest within 0.7 of its width of where LK moved it
+  // (of the merged blob's centre when found again after a loss, or at the start). The ink is darker
+  // than the eyebrow's end. Held where LK moved it, the dot drifted: LK weighs the eyebrow in its
+  // window, and each frame's pull added to the last (closed loop, turns at 640x480: 0.2 -> 0.9 px
+  // off over 55 frames, squeeze_r_eyebrow 8.5 % of range, about 3 % with the core); a dot found
+  // again on the merged blob was held 1.7 px off. 0: where LK moved it.
+  double inner_brow_core_tolerance = 0.08;
+
+  // Throws InputError naming the first option out of range ("BrowOptions::...").
+  void validate() const {
+    OptionCheck("BrowOptions").not_negative("inner_brow_core_tolerance", inner_brow_core_tolerance);
+  }
+};
 
 namespace ink_core_detail {
 

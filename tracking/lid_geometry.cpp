@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
 
 namespace rostro::tracking {
@@ -16,6 +17,23 @@ double cross(cv::Point2d a, cv::Point2d b) {
 }
 
 }  // namespace
+
+void EyeOptions::validate() const {
+  OptionCheck("EyeOptions")
+      .at_least("inner_corner_max_elongation_large", inner_corner_max_elongation_large, 1)
+      .positive("max_eye_snap", max_eye_snap)
+      .not_negative("lid_sideways_fraction", lid_sideways_fraction)
+      .not_negative("lid_overshoot_fraction", lid_overshoot_fraction)
+      .positive("lid_reach", lid_reach)
+      .at_least("max_dot_growth", max_dot_growth, 1)
+      .at_least("max_dot_growth_found", max_dot_growth_found, 1)
+      .not_negative("eye_size_memory_frames", eye_size_memory_frames)
+      .at_least("edge_on_elongation", edge_on_elongation, 1)
+      .at_least("max_lid_elongation", max_lid_elongation, 1)
+      .positive("max_lid_surround", max_lid_surround);
+}
+
+namespace internal {
 
 bool is_eye_point(const FeaturePointId& fp) {
   return fp.group == 3;
@@ -72,4 +90,5 @@ std::optional<LidGeometry::LineOffset> LidGeometry::offset_from_corner_line(
   return o;
 }
 
+}  // namespace internal
 }  // namespace rostro::tracking

@@ -4,9 +4,20 @@
 #include <cmath>
 #include <limits>
 
+#include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
 
 namespace rostro::tracking {
+
+void LowerLipOptions::validate() const {
+  OptionCheck("LowerLipOptions")
+      .not_negative("up", up)
+      .not_negative("down", down)
+      .not_negative("sideways", sideways)
+      .positive("shape", shape);
+}
+
+namespace internal {
 
 bool at_lower_lip(const FeaturePointId& fp) {
   return fp.group == 8 && (fp.index == 2 || fp.index == 7 || fp.index == 8);
@@ -56,8 +67,9 @@ std::optional<std::vector<LowerLipFound>> find_lower_lip(const LowerLipScene& sc
   };
   double unit = std::numeric_limits<double>::max();
   for (const LowerLipDot& k : members) unit = std::min(unit, k.spacing);
-  const double side = search.sideways * unit, up = search.up * unit, down = search.down * unit,
-               tolerance = search.shape * unit;
+  const LowerLipOptions& o = search.options;
+  const double side = o.sideways * unit, up = o.up * unit, down = o.down * unit,
+               tolerance = o.shape * unit;
 
   struct Candidate {
     size_t member;  // index into `members`
@@ -140,4 +152,5 @@ std::optional<std::vector<LowerLipFound>> find_lower_lip(const LowerLipScene& sc
   return out;
 }
 
+}  // namespace internal
 }  // namespace rostro::tracking

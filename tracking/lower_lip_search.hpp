@@ -1,7 +1,7 @@
 #pragma once
-// The lower lip's dots found again together (TrackerOptions::lower_lip_together), internal to
-// the tracking library: MarkerTracker hands over the mouth's dots and two callbacks (finding
-// dots in a window, checking one found) and takes back the dots found.
+// The lower lip's dots found again together (LowerLipOptions::together, part of
+// TrackerOptions), in rostro::tracking::internal: MarkerTracker hands over the mouth's dots and
+// two callbacks (finding dots in a window, checking one found) and takes back the dots found.
 //
 // The lower lip's dots, lost together when the mouth opens or shuts within a frame, are found
 // again together: in the mouth's frame (a similarity taking the followed upper-lip and corner
@@ -21,6 +21,32 @@
 #include "tracking/dot_detector.hpp"
 
 namespace rostro::tracking {
+
+// The lower lip's rules, TrackerOptions::lower_lip.
+struct LowerLipOptions {
+  // The lower lip's dots (MPEG-4 8.2, 8.7, 8.8) when the mouth opens or shuts within a frame
+  // (Xface joy: the lower lip 17-23 px in a frame at 1280x720, past LK's reach and past
+  // TrackerOptions::search_fraction). Lost ones are looked for together, not one by one: in the
+  // frame of the upper lip's and the corners' dots (a similarity from their start positions), in a
+  // strip from `up` above to `down` below each dot's start place and `sideways` to either side
+  // (fractions of the lower lip's spacing: the closed loop's drives reach 1.3-2.1 down and 0.4
+  // sideways), and taken only where one shift puts at least two of the three, followed or found,
+  // each on a dot within `shape` of it (the three keep their shape to 0.37). One at a time a
+  // dropped dot was found again on the open mouth's dark corner or on its neighbour's dot, up to 30
+  // px off (joy with head turns at 1280x720: raise_b_lip 33 % of range). The lower lip's dots are
+  // also no neighbours in the other dots' check that a dot moves as its neighbours do: the lower
+  // lip moves unlike them. false: one by one, as any dot.
+  bool together = true;
+  double up = 0.5;
+  double down = 2.5;
+  double sideways = 0.6;
+  double shape = 0.4;
+
+  // Throws InputError naming the first option out of range ("LowerLipOptions::...").
+  void validate() const;
+};
+
+namespace internal {
 
 // MPEG-4 8.2, 8.7, 8.8: the outer lower lip's dots.
 bool at_lower_lip(const FeaturePointId& fp);
@@ -52,8 +78,7 @@ struct LowerLipScene {
 };
 
 struct LowerLipSearch {
-  // TrackerOptions::lower_lip_up, _down, _sideways, _shape: fractions of the lower lip's spacing.
-  double up = 0.5, down = 2.5, sideways = 0.6, shape = 0.4;
+  LowerLipOptions options;  // up, down, sideways, shape: fractions of the lower lip's spacing
   // Every dot within `radius` of `centre` that may be lower-lip dot `marker` (its dot options,
   // its least contrast), nearest first.
   std::function<std::vector<Dot>(std::size_t marker, cv::Point2d centre, double radius)> dots_near;
@@ -79,4 +104,5 @@ std::optional<cv::Matx23d> mouth_frame(const std::vector<cv::Point2d>& from,
 std::optional<std::vector<LowerLipFound>> find_lower_lip(const LowerLipScene& scene,
                                                          const LowerLipSearch& search);
 
+}  // namespace internal
 }  // namespace rostro::tracking

@@ -1,6 +1,7 @@
 #include "tracking/marker_tracker.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <opencv2/calib3d.hpp>
@@ -9,6 +10,8 @@
 #include <opencv2/video/tracking.hpp>
 #include <optional>
 
+#include "facecore/named_options.hpp"
+#include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/ink_core.hpp"
@@ -18,6 +21,9 @@
 #include "tracking/overlay.hpp"
 
 namespace rostro::tracking {
+
+using namespace internal;  // the eyes' geometry and the lower lip's search
+
 namespace {
 
 cv::Point2d mean_of(const std::array<cv::Point2d, 4>& c) {
@@ -30,6 +36,39 @@ cv::Rect box_around(const std::array<cv::Point2d, 4>& corners, double margin) {
     x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
   return {static_cast<int>(x0 - margin), static_cast<int>(y0 - margin),
           static_cast<int>(x1 - x0 + 2 * margin) + 1, static_cast<int>(y1 - y0 + 2 * margin) + 1};
+}
+
+// Each dot's part of the face, from its MPEG-4 feature point: which region rules apply to it.
+// The eyes (group 3) are where a dot meets dark things that are no markers (the pupil, the
+// iris, the lash line, the other lid's dot); the brows (group 4) and the eyes lie at other
+// depths than their neighbours; the lower lip moves unlike the dots around it.
+enum class DotRole {
+  Lid,             // 3.1-3.4: the upper and lower lids' midpoints
+  InnerEyeCorner,  // 3.8, 3.11
+  OuterEyeCorner,  // 3.7, 3.12
+  OtherEye,        // any other point of group 3 (the pupils): an eye dot with no rule of its own
+  InnerBrow,       // 4.1, 4.2: at the eyebrows' inner ends
+  MidBrow,         // 4.3, 4.4: on the eyebrow
+  LowerLip,        // 8.2, 8.7, 8.8 (lower_lip_search.hpp)
+  Plain,           // every other dot, and the tags
+};
+
+DotRole role_of(const FeaturePointId& fp) {
+  constexpr int kLeftOuterCorner = 7, kRightOuterCorner = 12;
+  if (is_lid_point(fp)) return DotRole::Lid;
+  if (is_inner_eye_corner(fp)) return DotRole::InnerEyeCorner;
+  if (is_eye_point(fp))
+    return fp.index == kLeftOuterCorner || fp.index == kRightOuterCorner ? DotRole::OuterEyeCorner
+                                                                         : DotRole::OtherEye;
+  if (fp.group == 4 && fp.index <= 2) return DotRole::InnerBrow;
+  if (fp.group == 4 && (fp.index == 3 || fp.index == 4)) return DotRole::MidBrow;
+  if (at_lower_lip(fp)) return DotRole::LowerLip;
+  return DotRole::Plain;
+}
+
+bool at_eye(DotRole r) {
+  return r == DotRole::Lid || r == DotRole::InnerEyeCorner || r == DotRole::OuterEyeCorner ||
+         r == DotRole::OtherEye;
 }
 
 }  // namespace
@@ -58,7 +97,7 @@ struct MarkerTracker::Impl {
 
   Impl(MarkerLayout l, TrackerOptions o)
       : layout(std::move(l)),
-        options(std::move(o)),
+        options(validated(o)),
         full_detector(with_layout_families(options.tags)),
         window_detector(window_options(with_layout_families(options.tags))),
         threads(options.threads > 0 ? options.threads : std::max(1, cv::getNumberOfCPUs())) {
@@ -70,22 +109,34 @@ struct MarkerTracker::Impl {
     std::vector<FeaturePointId> points;
     for (const MarkerState& s : states) points.push_back(s.spec->feature_point);
     lids = LidGeometry(points);
+    for (const FeaturePointId& fp : points) roles.push_back(role_of(fp));
     options.dots.polarity = layout.polarity;
     centroid_dots = options.dots;
     centroid_dots.edge_fit = false;
     inner_corner_dots = options.dots;
-    inner_corner_dots.raise_share_for_roundness |= options.inner_corners_raise_share;
+    inner_corner_dots.raise_share_for_roundness |= options.eyes.inner_corners_raise_share;
     // The inner corners' centre from the raised share's blob (its centroid, then the symmetric
-    // centre, TrackerOptions::inner_corners_symmetric_centre), not the edge fit: the edge fit's
+    // centre, EyeOptions::inner_corners_symmetric_centre), not the edge fit: the edge fit's
     // rays there run along the slit's corner line and the lashes, and its centre moved with
     // the expression (Xface fear at 1280x720: 0.32-0.41 px frame-to-frame spread in x against
     // 0.14-0.18 for the centroid, which went into the head pose: pitch 5.8 -> 2.7 % of range).
     inner_corner_dots.edge_fit = false;
-    inner_corner_dots.symmetric_centre = options.inner_corners_symmetric_centre;
+    inner_corner_dots.symmetric_centre = options.eyes.inner_corners_symmetric_centre;
     inner_corner_dots_large = inner_corner_dots;
     inner_corner_dots_large.max_elongation =
-        std::max(options.dots.max_elongation, options.inner_corner_max_elongation_large);
+        std::max(options.dots.max_elongation, options.eyes.inner_corner_max_elongation_large);
+    for (size_t i = 0; i < states.size(); ++i) {
+      const DotRole r = roles[i];
+      const bool edge_fit = tracking::at_eye(r) || options.edge_fit_elsewhere ||
+                            (options.brows.edge_fit_mid_brows && r == DotRole::MidBrow);
+      const DotOptions* plain = edge_fit ? &options.dots : &centroid_dots;
+      const bool inner_corner = r == DotRole::InnerEyeCorner;
+      measured_with[0].push_back(inner_corner ? &inner_corner_dots : plain);
+      measured_with[1].push_back(inner_corner ? &inner_corner_dots_large : plain);
+    }
   }
+
+  std::vector<DotRole> roles;  // per marker, from its feature point
 
   // TrackerOptions::threads, 0 resolved to the machine's cores.
   const int threads;
@@ -220,85 +271,118 @@ struct MarkerTracker::Impl {
     ensure_gray({0, 0, gray.cols, gray.rows});
     std::vector<TagDetection> tags =
         layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
-    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;  // frontal -> image
-    if (!start_positions.empty()) {
-      for (MarkerState& s : states) {
-        s.valid = false;
-        auto it = start_positions.find(s.spec->id);
-        if (it == start_positions.end()) continue;
-        if (s.spec->is_tag()) {
-          for (const TagDetection& t : tags)
-            if (t.marker_id() == s.spec->id && cv::norm(t.center - it->second) < 20)
-              s.valid = true, s.corners = t.corners, s.position = t.center;
-        } else if (auto d = refine_dot(gray, it->second, 3,
-                                       dot_options(static_cast<size_t>(&s - states.data())))) {
-          s.valid = true, s.position = d->center;
-        }
-        if (s.valid) known.push_back({s.spec->frontal(), s.position});
-      }
-    } else {
-      auto dots = detect_dots(gray, centroid_dots);
-      Identification id = identify_markers(layout, dots, tags);
-      for (MarkerState& s : states) {
-        s.valid = false;
-        if (s.spec->is_tag()) {
-          auto it = id.tags.find(s.spec->id);
-          if (it != id.tags.end())
-            s.valid = true, s.corners = it->second.corners, s.position = it->second.center;
-        } else {
-          auto it = id.dots.find(s.spec->id);
-          if (it != id.dots.end()) s.valid = true, s.position = it->second.center;
-        }
-        if (s.valid) known.push_back({s.spec->frontal(), s.position});
-      }
-    }
+    const std::vector<std::pair<cv::Point2d, cv::Point2d>> known =
+        start_positions.empty() ? identify(tags) : find_at_start_positions(tags);
     if (static_cast<int>(known.size()) < std::max(3, options.min_identified)) {
-      for (MarkerState& s : states) s.valid = false;
+      for (MarkerState& s : states) s.valid = false, s.lost_reason = LostReason::Unidentified;
       return;
     }
+    place_unseen(known);
+    scale_to_dots(measure_seen());
+    measure_spacing();
+    started = true;
+  }
 
-    // Where the unseen markers should be: the layout mapped by the seen ones.
+  // The markers found where the file of starting positions puts them (within a few pixels), as
+  // frontal layout position -> image position.
+  std::vector<std::pair<cv::Point2d, cv::Point2d>> find_at_start_positions(
+      const std::vector<TagDetection>& tags) {
+    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
+    for (MarkerState& s : states) {
+      s.valid = false;
+      auto it = start_positions.find(s.spec->id);
+      if (it == start_positions.end()) continue;
+      if (s.spec->is_tag()) {
+        for (const TagDetection& t : tags)
+          if (t.marker_id() == s.spec->id && cv::norm(t.center - it->second) < 20)
+            s.valid = true, s.corners = t.corners, s.position = t.center;
+      } else if (auto d = refine_dot(gray, it->second, 3,
+                                     dot_options(static_cast<size_t>(&s - states.data())))) {
+        s.valid = true, s.position = d->center;
+      }
+      if (s.valid) known.push_back({s.spec->frontal(), s.position});
+    }
+    return known;
+  }
+
+  // Every dot and tag in the frame, identified (identify.hpp).
+  std::vector<std::pair<cv::Point2d, cv::Point2d>> identify(const std::vector<TagDetection>& tags) {
+    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
+    auto dots = detect_dots(gray, centroid_dots);
+    Identification id = identify_markers(layout, dots, tags);
+    for (MarkerState& s : states) {
+      s.valid = false;
+      if (s.spec->is_tag()) {
+        auto it = id.tags.find(s.spec->id);
+        if (it != id.tags.end())
+          s.valid = true, s.corners = it->second.corners, s.position = it->second.center;
+      } else {
+        auto it = id.dots.find(s.spec->id);
+        if (it != id.dots.end()) s.valid = true, s.position = it->second.center;
+      }
+      if (s.valid) known.push_back({s.spec->frontal(), s.position});
+    }
+    return known;
+  }
+
+  // Where the unseen markers should be: the layout mapped by the seen ones.
+  void place_unseen(const std::vector<std::pair<cv::Point2d, cv::Point2d>>& known) {
     std::vector<cv::Point2d> from, to;
     for (const auto& [f, t] : known) from.push_back(f), to.push_back(t);
     cv::Matx23d mapping(cv::estimateAffine2D(from, to, cv::noArray(), cv::LMEDS));
     const size_t n = states.size();
     reference.assign(n, {});
     reference_corners.assign(n, {});
-    reference_contrast.assign(n, 0);
-    reference_diameter.assign(n, 0);
-    std::vector<double> contrasts, diameters;
     for (size_t i = 0; i < n; ++i) {
       MarkerState& s = states[i];
-      if (s.valid) {
-        reference[i] = s.position;
-        reference_corners[i] = s.corners;
-        if (!s.spec->is_tag()) {
-          // An eye dot is identified by its centroid alone, beside the slit's corner line
-          // even on a weak blob between the two (1280x720: 2.9 px off): measured again, as it
-          // will be followed, from the strongest point within a few pixels.
-          if (at_eye(i))
-            if (auto d = refine_dot(gray, s.position, 3, dot_options(i)))
-              reference[i] = s.position = d->center;
-          // An inner brow dot merged with the eyebrow's end is identified by the merged blob
-          // (Xface joy with turns at 1280x720: 6 px off): its ink's core instead.
-          if (options.hold_merged_inner_brows && is_inner_brow(i))
-            if (auto d = refine_dot(gray, s.position, 3, dot_options(i)); d && merged_with_brow(*d))
-              reference[i] = s.position = merged_brow_position(d->center, s.position, *d);
-          if (auto d = refine_dot(gray, s.position, 1.5, dot_options(i))) {
-            reference_contrast[i] = d->contrast, reference_diameter[i] = d->diameter;
-            contrasts.push_back(d->contrast), diameters.push_back(d->diameter);
-          }
-        }
-      } else {
-        reference[i] = apply(mapping, s.spec->frontal());
-        if (s.spec->is_tag()) {
-          auto c = s.spec->tag_corners_frontal();
-          for (int k = 0; k < 4; ++k) reference_corners[i][k] = apply(mapping, c[k]);
-        }
+      if (s.valid) continue;
+      reference[i] = apply(mapping, s.spec->frontal());
+      if (s.spec->is_tag()) {
+        auto c = s.spec->tag_corners_frontal();
+        for (int k = 0; k < 4; ++k) reference_corners[i][k] = apply(mapping, c[k]);
       }
+    }
+  }
+
+  // The seen markers' start positions, and the seen dots' contrast and size (returned: the
+  // contrasts and sizes of the dots measured, in marker order).
+  std::pair<std::vector<double>, std::vector<double>> measure_seen() {
+    const size_t n = states.size();
+    std::vector<double> contrasts, diameters;
+    reference_contrast.assign(n, 0);
+    reference_diameter.assign(n, 0);
+    for (size_t i = 0; i < n; ++i) {
+      MarkerState& s = states[i];
       s.quality = s.valid ? 1 : 0;
       s.lost_frames = s.valid ? 0 : 1;
+      s.lost_reason = s.valid ? LostReason::None : LostReason::Unidentified;
+      if (!s.valid) continue;
+      reference[i] = s.position;
+      reference_corners[i] = s.corners;
+      if (s.spec->is_tag()) continue;
+      // An eye dot is identified by its centroid alone, beside the slit's corner line
+      // even on a weak blob between the two (1280x720: 2.9 px off): measured again, as it
+      // will be followed, from the strongest point within a few pixels.
+      if (at_eye(i))
+        if (auto d = refine_dot(gray, s.position, 3, dot_options(i)))
+          reference[i] = s.position = d->center;
+      // An inner brow dot merged with the eyebrow's end is identified by the merged blob
+      // (Xface joy with turns at 1280x720: 6 px off): its ink's core instead.
+      if (options.brows.hold_merged_inner_brows && is_inner_brow(i))
+        if (auto d = refine_dot(gray, s.position, 3, dot_options(i)); d && merged_with_brow(*d))
+          reference[i] = s.position = merged_brow_position(d->center, s.position, *d);
+      if (auto d = refine_dot(gray, s.position, 1.5, dot_options(i))) {
+        reference_contrast[i] = d->contrast, reference_diameter[i] = d->diameter;
+        contrasts.push_back(d->contrast), diameters.push_back(d->diameter);
+      }
     }
+    return {contrasts, diameters};
+  }
+
+  // The pixel-valued options scaled to the dots' typical size (px, large_dots); the dots not
+  // measured at the start take the typical contrast and size.
+  void scale_to_dots(const std::pair<std::vector<double>, std::vector<double>>& measured) {
+    const auto& [contrasts, diameters] = measured;
     auto median = [](std::vector<double> v) {
       if (v.empty()) return 0.0;
       std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
@@ -307,18 +391,21 @@ struct MarkerTracker::Impl {
     const double typical_contrast = median(contrasts), typical_diameter = median(diameters);
     px = std::max(1.0, typical_diameter / options.reference_dot_px);
     large_dots = typical_diameter >= options.reference_dot_px;
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; i < states.size(); ++i)
       if (!states[i].spec->is_tag() && reference_contrast[i] <= 0)
         reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter;
-
     recent_diameter = reference_diameter;
-    recent_elongation.assign(n, 1);
+    recent_elongation.assign(states.size(), 1);
     face_scale = 1;
+  }
+
+  // Each marker's nearest other marker at the start.
+  void measure_spacing() {
+    const size_t n = states.size();
     spacing.assign(n, std::numeric_limits<double>::max());
     for (size_t i = 0; i < n; ++i)
       for (size_t j = 0; j < n; ++j)
         if (i != j) spacing[i] = std::min(spacing[i], cv::norm(reference[i] - reference[j]));
-    started = true;
   }
 
   // ---- per frame -----------------------------------------------------------------------
@@ -334,7 +421,7 @@ struct MarkerTracker::Impl {
   bool large_dots = false;  // the dots at the start at least reference_dot_px wide
   double max_fb_error() const { return options.max_fb_error * px; }
   double max_snap() const { return options.max_snap * px; }
-  double max_eye_snap() const { return options.max_eye_snap * px; }
+  double max_eye_snap() const { return options.eyes.max_eye_snap * px; }
   int lk_window() const {
     return static_cast<int>(std::lround(options.lk_window * std::sqrt(px))) | 1;
   }
@@ -346,38 +433,35 @@ struct MarkerTracker::Impl {
   // have turned toward the camera meanwhile, so after a long loss it may be a little larger
   // than it was then or at the start, not as large as two dots (after a short one, than it was
   // then, when it was seen edge-on: merged with a dark neighbour it is about its start size).
-  bool dot_passes(size_t i, const Dot& d, bool followed) const {
+  // The first check dot d fails as marker i (None: it passes).
+  LostReason dot_check(size_t i, const Dot& d, bool followed) const {
     const double was = recent_diameter[i] > 0 ? recent_diameter[i] : reference_diameter[i];
-    // (TrackerOptions::eye_size_memory_frames: an eye dot last seen edge-on and lost a short
+    // (EyeOptions::eye_size_memory_frames: an eye dot last seen edge-on and lost a short
     // while keeps its own size.)
-    const bool edge_on_lately = states[i].lost_frames < options.eye_size_memory_frames &&
-                                recent_elongation[i] >= options.edge_on_elongation;
+    const bool edge_on_lately = states[i].lost_frames < options.eyes.eye_size_memory_frames &&
+                                recent_elongation[i] >= options.eyes.edge_on_elongation;
     const double grown_from =
         followed || edge_on_lately ? was : std::max(was, reference_diameter[i] * face_scale);
     const double largest =
-        (followed ? options.max_dot_growth : options.max_dot_growth_found) * grown_from;
-    if (is_lid(i) && d.elongation > options.max_lid_elongation) return false;
-    if (is_lid(i) && d.surround > options.max_lid_surround) return false;
-    return d.contrast >= options.min_contrast_ratio * reference_contrast[i] &&
-           d.diameter >= 0.5 * reference_diameter[i] &&
-           d.diameter <= (at_eye(i) ? largest : 2.0 * reference_diameter[i]);
+        (followed ? options.eyes.max_dot_growth : options.eyes.max_dot_growth_found) * grown_from;
+    if (is_lid(i) && d.elongation > options.eyes.max_lid_elongation)
+      return LostReason::LidElongation;
+    if (is_lid(i) && d.surround > options.eyes.max_lid_surround) return LostReason::LidSurround;
+    if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
+      return LostReason::Contrast;
+    if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
+    if (!(d.diameter <= (at_eye(i) ? largest : 2.0 * reference_diameter[i])))
+      return LostReason::Growth;
+    return LostReason::None;
   }
-  // The eyes (MPEG-4 group 3: lids and corners) are where a dot meets dark things that are
-  // no markers (the pupil, the iris, the lash line, the other lid's dot); the brows (group 4)
-  // and the eyes lie at other depths than their neighbours. Around the mouth, where the lips'
-  // dark line and the open mouth are, a dot merged for a frame is better kept than dropped
-  // (the suite's mouth clip: dropped lip dots come back on a neighbour's).
-  bool at_eye(size_t i) const { return is_eye_point(states[i].spec->feature_point); }
-  bool at_brow(size_t i) const { return states[i].spec->feature_point.group == 4; }
-  // MPEG-4 4.1, 4.2: the inner brow dots, at the eyebrows' inner ends.
-  bool is_inner_brow(size_t i) const {
-    return at_brow(i) && states[i].spec->feature_point.index <= 2;
+  bool dot_passes(size_t i, const Dot& d, bool followed) const {
+    return dot_check(i, d, followed) == LostReason::None;
   }
-  // MPEG-4 4.3, 4.4: the mid-brow dots, on the eyebrow.
-  bool is_mid_brow(size_t i) const {
-    const int index = states[i].spec->feature_point.index;
-    return at_brow(i) && (index == 3 || index == 4);
-  }
+  // (DotRole.) Around the mouth, where the lips' dark line and the open mouth are, a dot
+  // merged for a frame is better kept than dropped (the suite's mouth clip: dropped lip dots
+  // come back on a neighbour's): the eye dots' stricter checks hold only at the eyes.
+  bool at_eye(size_t i) const { return tracking::at_eye(roles[i]); }
+  bool is_inner_brow(size_t i) const { return roles[i] == DotRole::InnerBrow; }
   // A brow dot's blob merged with the eyebrow: on the rendered head a lone inner brow dot is
   // measured at 0.9 of its contrast (the eyebrow beside it merges at 0.8) and is at most 1.5
   // long and at least 0.68 round there; merged with the eyebrow it comes out at 0.8, or at 0.9
@@ -388,34 +472,28 @@ struct MarkerTracker::Impl {
                              d.roundness < kLeastRoundness);
   }
   // How dot i is measured: the edge fit at the eyes and the mid brows
-  // (TrackerOptions::edge_fit_elsewhere, edge_fit_mid_brows), but
-  // at the inner eye corners the raised share (TrackerOptions::inner_corners_raise_share) and
+  // (TrackerOptions::edge_fit_elsewhere, BrowOptions::edge_fit_mid_brows), but
+  // at the inner eye corners the raised share (EyeOptions::inner_corners_raise_share) and
   // the symmetric centre (inner_corners_symmetric_centre). The raised share not at the other eye
   // dots: on the lid dots the raised share would take two lid dots merged in a blink (not round at
   // half, round enough higher up, where 0.4 passes); on the outer corners at 640x480 it found dots
   // lost before at 0.6 with the line still on, and the edge fit then put 1 in 8 of them 1-1.6 px
   // off (Xface fear: head yaw 9.4 -> 12.7 %).
   DotOptions centroid_dots, inner_corner_dots, inner_corner_dots_large;
-  const DotOptions& dot_options(size_t i) const {
-    if (is_inner_corner(i)) return large_dots ? inner_corner_dots_large : inner_corner_dots;
-    const bool edge_fit =
-        at_eye(i) || options.edge_fit_elsewhere || (options.edge_fit_mid_brows && is_mid_brow(i));
-    return edge_fit ? options.dots : centroid_dots;
-  }
-  bool is_inner_corner(size_t i) const {
-    return is_inner_eye_corner(states[i].spec->feature_point);
-  }
-  bool is_lid(size_t i) const { return is_lid_point(states[i].spec->feature_point); }
+  // Per marker, set in the constructor: [large_dots][i].
+  std::array<std::vector<const DotOptions*>, 2> measured_with;
+  const DotOptions& dot_options(size_t i) const { return *measured_with[large_dots ? 1 : 0][i]; }
+  bool is_lid(size_t i) const { return roles[i] == DotRole::Lid; }
   double face_scale = 1;  // the face's size now over its size at the start
   // Where a merged inner brow dot is: the centre of its ink's core near `from`
-  // (TrackerOptions::inner_brow_core_tolerance), else `otherwise`.
+  // (BrowOptions::inner_brow_core_tolerance), else `otherwise`.
   cv::Point2d merged_brow_position(cv::Point2d from, cv::Point2d otherwise, const Dot& d) const {
-    if (options.inner_brow_core_tolerance <= 0) return otherwise;
+    if (options.brows.inner_brow_core_tolerance <= 0) return otherwise;
     // The disc reaches a fifth of the dot's width past its rim: room for LK's drift and for a
     // dot seen long and thin (at 1280x720 under a frown and a turn, 14 px long against 10 wide).
     constexpr double kReach = 0.7;
     const auto core = ink_core_centre(gray, from, kReach * d.diameter,
-                                      options.inner_brow_core_tolerance * d.contrast,
+                                      options.brows.inner_brow_core_tolerance * d.contrast,
                                       options.dots.polarity == DotPolarity::Dark);
     // (The merged blob's centre may lie most of the dot's width out along the eyebrow.)
     const double farthest = std::max(max_snap(), 0.5 * d.diameter);
@@ -424,122 +502,175 @@ struct MarkerTracker::Impl {
   std::vector<double> recent_diameter;    // per dot, smoothed over its last measurements
   std::vector<double> recent_elongation;  // per dot, when last measured
 
-  void follow() {
-    // 1. LK on the valid dots and the valid tags' corners.
+  // ---- per frame: the steps --------------------------------------------------------------
+
+  // One frame's LK: the points followed from the previous frame (the valid dots and the valid
+  // tags' corners), where LK moves them and where it brings them back.
+  struct Flow {
     std::vector<cv::Point2f> before, after, back;
     std::vector<size_t> owner;  // state index per point
+    std::vector<uchar> status, status_back;
+    std::vector<bool> was_valid;  // per marker, at the end of the previous frame
+  };
+  // Point k failed LK's forward-backward round trip (TrackerOptions::max_fb_error).
+  bool failed_round_trip(const Flow& f, size_t k) const {
+    return !f.status[k] || !f.status_back[k] || cv::norm(f.back[k] - f.before[k]) > max_fb_error();
+  }
+  // Each valid tag's corners where LK moved them, and whether all four made the round trip.
+  struct TagGuesses {
+    std::vector<std::array<cv::Point2d, 4>> corners;
+    std::vector<bool> held;
+  };
+
+  void follow() {
+    Flow flow = lk_round_trip();
+    const TagGuesses tags = tag_corner_guesses(flow);
+    snap_dots(flow);
+    follow_tags(flow, tags);
+    drop_jumped(flow);
+    drop_coincident();
+    drop_off_lid_band();
+    reacquire_lost(flow);
+  }
+
+  // 1. LK on the valid dots and the valid tags' corners, forward and back.
+  Flow lk_round_trip() {
+    Flow f;
+    f.was_valid.resize(states.size());
     for (size_t i = 0; i < states.size(); ++i) {
       const MarkerState& s = states[i];
+      f.was_valid[i] = s.valid;
       if (!s.valid) continue;
       if (s.spec->is_tag()) {
-        for (const auto& c : s.corners) before.emplace_back(c), owner.push_back(i);
+        for (const auto& c : s.corners) f.before.emplace_back(c), f.owner.push_back(i);
       } else {
-        before.emplace_back(s.position), owner.push_back(i);
+        f.before.emplace_back(s.position), f.owner.push_back(i);
       }
     }
-    std::vector<uchar> status, status_back;
+    if (f.before.empty()) return f;
     // (No error measure asked of LK: nothing reads it, and it costs a window's interpolation
     // per point.)
     const cv::Size window(lk_window(), lk_window());
     const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
-    if (!before.empty()) {
-      // Each pyramid has its own region: points go to its coordinates and back.
-      const cv::Point2f from_tl(previous_region.tl()), to_tl(region.tl());
-      std::vector<cv::Point2f> local_before(before.size());
-      after.resize(before.size());
-      for (size_t k = 0; k < before.size(); ++k)
-        local_before[k] = before[k] - from_tl, after[k] = before[k] - to_tl;
-      // Derivatives only where LK reads them: around the points it follows from each pyramid.
-      previous_pyramid.derivatives(local_before);
-      cv::calcOpticalFlowPyrLK(previous_pyramid.as_lk_input(), pyramid.as_lk_input(), local_before,
-                               after, status, cv::noArray(), window, options.lk_levels, stop,
-                               cv::OPTFLOW_USE_INITIAL_FLOW);
-      back = local_before;
-      pyramid.derivatives(after);
-      cv::calcOpticalFlowPyrLK(pyramid.as_lk_input(), previous_pyramid.as_lk_input(), after, back,
-                               status_back, cv::noArray(), window, options.lk_levels, stop,
-                               cv::OPTFLOW_USE_INITIAL_FLOW);
-      for (size_t k = 0; k < before.size(); ++k) after[k] += to_tl, back[k] += from_tl;
-    }
+    // Each pyramid has its own region: points go to its coordinates and back.
+    const cv::Point2f from_tl(previous_region.tl()), to_tl(region.tl());
+    std::vector<cv::Point2f> local_before(f.before.size());
+    f.after.resize(f.before.size());
+    for (size_t k = 0; k < f.before.size(); ++k)
+      local_before[k] = f.before[k] - from_tl, f.after[k] = f.before[k] - to_tl;
+    // Derivatives only where LK reads them: around the points it follows from each pyramid.
+    previous_pyramid.derivatives(local_before);
+    cv::calcOpticalFlowPyrLK(previous_pyramid.as_lk_input(), pyramid.as_lk_input(), local_before,
+                             f.after, f.status, cv::noArray(), window, options.lk_levels, stop,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    f.back = local_before;
+    pyramid.derivatives(f.after);
+    cv::calcOpticalFlowPyrLK(pyramid.as_lk_input(), previous_pyramid.as_lk_input(), f.after, f.back,
+                             f.status_back, cv::noArray(), window, options.lk_levels, stop,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t k = 0; k < f.before.size(); ++k) f.after[k] += to_tl, f.back[k] += from_tl;
+    return f;
+  }
 
-    // 2. Dots: check and snap to the centre. Tags: re-detect near the moved corners.
-    std::vector<std::array<cv::Point2d, 4>> tag_guess(states.size());
-    std::vector<int> tag_corner_count(states.size(), 0);
-    std::vector<bool> tag_corners_held(states.size(), true);
-    std::vector<bool> was_valid(states.size());
-    for (size_t i = 0; i < states.size(); ++i) was_valid[i] = states[i].valid;
+  TagGuesses tag_corner_guesses(const Flow& f) const {
+    TagGuesses g{std::vector<std::array<cv::Point2d, 4>>(states.size()),
+                 std::vector<bool>(states.size(), true)};
+    std::vector<int> count(states.size(), 0);
+    for (size_t k = 0; k < f.before.size(); ++k) {
+      const size_t i = f.owner[k];
+      const MarkerState& s = states[i];
+      if (!s.spec->is_tag()) continue;
+      int& c = count[i];
+      g.corners[i][c] = f.status[k] ? cv::Point2d(f.after[k]) : s.corners[c];
+      if (failed_round_trip(f, k)) g.held[i] = false;
+      ++c;
+    }
+    return g;
+  }
+
+  // 2. Each dot that made LK's round trip snapped to its measured centre, if that passes the
+  //    checks; the others turn invalid.
+  void snap_dots(const Flow& f) {
     // The dots that made LK's round trip are measured apart from one another (each reads only
     // the grey image around it) on TrackerOptions::threads threads, then judged and applied
     // in their order: the result does not depend on the thread count. Their grey windows are
     // filled first, serially, as the conversion writes to the one grey image.
     std::vector<size_t> to_measure;  // point indices
-    for (size_t k = 0; k < before.size(); ++k) {
-      MarkerState& s = states[owner[k]];
-      if (s.spec->is_tag()) {
-        int& c = tag_corner_count[owner[k]];
-        tag_guess[owner[k]][c] = status[k] ? cv::Point2d(after[k]) : s.corners[c];
-        if (!status[k] || !status_back[k] || cv::norm(back[k] - before[k]) > max_fb_error())
-          tag_corners_held[owner[k]] = false;
-        ++c;
+    for (size_t k = 0; k < f.before.size(); ++k) {
+      MarkerState& s = states[f.owner[k]];
+      if (s.spec->is_tag()) continue;
+      s.valid = false;
+      if (failed_round_trip(f, k)) {
+        s.lost_reason = LostReason::RoundTrip;
         continue;
       }
-      s.valid = false;
-      if (!status[k] || !status_back[k] || cv::norm(back[k] - before[k]) > max_fb_error()) continue;
-      ensure_gray_around(cv::Point2d(after[k]), max_snap());
+      ensure_gray_around(cv::Point2d(f.after[k]), max_snap());
       to_measure.push_back(k);
     }
-    std::vector<std::optional<Dot>> measured(before.size());
+    std::vector<std::optional<Dot>> measured(f.before.size());
     for_each_in_parallel(to_measure.size(), [&](size_t m) {
       const size_t k = to_measure[m];
-      measured[k] = refine_dot(gray, cv::Point2d(after[k]), max_snap(), dot_options(owner[k]));
+      measured[k] = refine_dot(gray, cv::Point2d(f.after[k]), max_snap(), dot_options(f.owner[k]));
     });
     for (const size_t k : to_measure) {
-      MarkerState& s = states[owner[k]];
-      const double fb = cv::norm(back[k] - before[k]);
+      const size_t i = f.owner[k];
+      MarkerState& s = states[i];
+      const double fb = cv::norm(f.back[k] - f.before[k]);
       const std::optional<Dot>& d = measured[k];
-      if (!d) continue;
-      const double snap = cv::norm(d->center - cv::Point2d(after[k]));
-      if (snap > max_snap() || (at_eye(owner[k]) && snap > max_eye_snap()) ||
-          !dot_passes(owner[k], *d, true))
+      if (!d) {
+        s.lost_reason = LostReason::NoDot;
         continue;
+      }
+      const cv::Point2d lk(f.after[k]);
+      const double snap = cv::norm(d->center - lk);
+      s.lost_reason = snap > max_snap()                    ? LostReason::Snap
+                      : at_eye(i) && snap > max_eye_snap() ? LostReason::EyeSnap
+                                                           : dot_check(i, *d, true);
+      if (s.lost_reason != LostReason::None) continue;
       s.valid = true;
       s.position = d->center;
-      // TrackerOptions::hold_merged_inner_brows. The snap check above still bounds how far LK may
+      // BrowOptions::hold_merged_inner_brows. The snap check above still bounds how far LK may
       // wander from the merged blob while it is held: past it the dot turns invalid and is
       // found again.
-      if (options.hold_merged_inner_brows && is_inner_brow(owner[k]) && merged_with_brow(*d))
-        s.position = merged_brow_position(cv::Point2d(after[k]), cv::Point2d(after[k]), *d);
-      recent_diameter[owner[k]] = 0.7 * recent_diameter[owner[k]] + 0.3 * d->diameter;
-      recent_elongation[owner[k]] = d->elongation;
-      s.quality = std::clamp(d->contrast / reference_contrast[owner[k]], 0.0, 1.0) *
+      if (options.brows.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(*d))
+        s.position = merged_brow_position(lk, lk, *d);
+      recent_diameter[i] = 0.7 * recent_diameter[i] + 0.3 * d->diameter;
+      recent_elongation[i] = d->elongation;
+      s.quality = std::clamp(d->contrast / reference_contrast[i], 0.0, 1.0) *
                   (1 - 0.5 * fb / max_fb_error());
     }
-    // A tag is rigid: between detections (every few frames) LK on its corners follows it, as
-    // long as all four corners pass the round trip and the square keeps its size.
+  }
+
+  // 3. A tag is rigid: between detections (every few frames) LK on its corners follows it, as
+  //    long as all four corners pass the round trip and the square keeps its size; otherwise
+  //    it is re-detected near the moved corners.
+  void follow_tags(const Flow& f, const TagGuesses& g) {
     const bool detect_tags = ++frames_since_tag_detection >= options.tag_redetect_every;
     if (detect_tags) frames_since_tag_detection = 0;
     for (size_t i = 0; i < states.size(); ++i) {
-      if (!states[i].spec->is_tag() || !was_valid[i]) continue;
-      if (!detect_tags && tag_corners_held[i] && keeps_shape(states[i].corners, tag_guess[i])) {
-        states[i].corners = tag_guess[i];
-        states[i].position = diagonal_crossing(tag_guess[i]);
+      if (!states[i].spec->is_tag() || !f.was_valid[i]) continue;
+      if (!detect_tags && g.held[i] && keeps_shape(states[i].corners, g.corners[i])) {
+        states[i].corners = g.corners[i];
+        states[i].position = diagonal_crossing(g.corners[i]);
         continue;
       }
-      find_tag(i, tag_guess[i]);
+      find_tag(i, g.corners[i]);
     }
+  }
 
-    // 3a. A dot must move roughly as its neighbours do: LK that slid onto another dot (a
-    //     neighbour's, while its own was hidden) moves very differently from them.
+  // 4a. A dot must move roughly as its neighbours do: LK that slid onto another dot (a
+  //     neighbour's, while its own was hidden) moves very differently from them.
+  void drop_jumped(const Flow& f) {
     std::vector<cv::Point2d> moved(states.size());
-    for (size_t k = 0; k < before.size(); ++k)
-      if (!states[owner[k]].spec->is_tag())
-        moved[owner[k]] = states[owner[k]].position - cv::Point2d(before[k]);
+    for (size_t k = 0; k < f.before.size(); ++k)
+      if (!states[f.owner[k]].spec->is_tag())
+        moved[f.owner[k]] = states[f.owner[k]].position - cv::Point2d(f.before[k]);
     std::vector<size_t> jumped;
     for (size_t i = 0; i < states.size(); ++i) {
-      if (!states[i].valid || states[i].spec->is_tag() || !was_valid[i]) continue;
+      if (!states[i].valid || states[i].spec->is_tag() || !f.was_valid[i]) continue;
       std::vector<std::pair<double, size_t>> near;
       for (size_t j = 0; j < states.size(); ++j)
-        if (j != i && states[j].valid && was_valid[j] && !states[j].spec->is_tag() &&
+        if (j != i && states[j].valid && f.was_valid[j] && !states[j].spec->is_tag() &&
             !apart_from_lower_lip(i, j))
           near.push_back({cv::norm(reference[j] - reference[i]), j});
       if (near.size() < 3) continue;
@@ -554,32 +685,39 @@ struct MarkerTracker::Impl {
           std::max(options.max_relative_motion_px * px, options.max_relative_motion * spacing[i]))
         jumped.push_back(i);
     }
-    for (size_t i : jumped) states[i].valid = false;
+    for (size_t i : jumped) states[i].valid = false, states[i].lost_reason = LostReason::Jump;
+  }
 
-    // 3b. Two dots on one spot: neither can be trusted (an identity swap is worse than a gap).
+  // 4b. Two dots on one spot: neither can be trusted (an identity swap is worse than a gap).
+  void drop_coincident() {
     for (size_t i = 0; i < states.size(); ++i)
       for (size_t j = i + 1; j < states.size(); ++j) {
         MarkerState &a = states[i], &b = states[j];
         if (!a.valid || !b.valid || a.spec->is_tag() || b.spec->is_tag()) continue;
-        if (cv::norm(a.position - b.position) < 0.5 * std::max(reference_diameter[i], 2.0))
+        if (cv::norm(a.position - b.position) < 0.5 * std::max(reference_diameter[i], 2.0)) {
           a.valid = b.valid = false;
+          a.lost_reason = b.lost_reason = LostReason::Coincident;
+        }
       }
+  }
 
-    // 3c. A followed lid dot that left its band (in_its_lid_band) is not the lid's: a take
-    //     starting in a squint names the brow's dot the upper lid's.
+  // 4c. A followed lid dot that left its band (in_its_lid_band) is not the lid's: a take
+  //     starting in a squint names the brow's dot the upper lid's.
+  void drop_off_lid_band() {
     for (size_t i = 0; i < states.size(); ++i)
       if (states[i].valid && is_lid(i) && !in_its_lid_band(i, states[i].position))
-        states[i].valid = false;
+        states[i].valid = false, states[i].lost_reason = LostReason::LidBand;
+  }
 
-    // 4. Look again for the markers that are not valid, where their neighbours put them.
-    remember_last_seen(was_valid, before, owner);
+  // 5. Look again for the markers that are not valid, where their neighbours put them.
+  void reacquire_lost(const Flow& f) {
+    remember_last_seen(f.was_valid, f.before, f.owner);
     predict_lost();
-    const bool lower_lip_searched = options.lower_lip_together && reacquire_lower_lip();
+    const bool lower_lip_searched = options.lower_lip.together && reacquire_lower_lip();
     for (size_t i = 0; i < states.size(); ++i)
       if (!states[i].valid && has_prediction[i] && !(lower_lip_searched && at_lower_lip(i)))
         reacquire(i);
   }
-
   int frames_since_tag_detection = 0;
 
   // Side lengths within 10% of the last ones: LK did not slide a corner along an edge.
@@ -606,6 +744,7 @@ struct MarkerTracker::Impl {
     MarkerState& s = states[i];
     const double side = cv::norm(guess[0] - guess[1]);
     const cv::Rect roi = box_around(guess, options.tag_margin * side + 4);
+    if (s.valid) s.lost_reason = LostReason::TagLost;  // unless found below
     s.valid = false;
     // Large tags are found as well at half resolution, for a quarter of the cost; the
     // corners are refined on the full image either way.
@@ -768,8 +907,8 @@ struct MarkerTracker::Impl {
       s.valid = true;
       s.position = d.center;
       // A merged inner brow dot found again: its ink's core, not the merged blob's centre out
-      // along the eyebrow (TrackerOptions::inner_brow_core_tolerance).
-      if (options.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(d))
+      // along the eyebrow (BrowOptions::inner_brow_core_tolerance).
+      if (options.brows.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(d))
         s.position = merged_brow_position(d.center, d.center, d);
       recent_diameter[i] = d.diameter;
       recent_elongation[i] = d.elongation;
@@ -784,7 +923,7 @@ struct MarkerTracker::Impl {
     const std::optional<cv::Point2d> axis = lids.axis(i, reference, prediction_fit[i]);
     if (!axis) return true;
     return std::abs((at - predicted_at(i)).dot(*axis)) <=
-           options.lid_sideways_fraction * spacing[i] * scale;
+           options.eyes.lid_sideways_fraction * spacing[i] * scale;
   }
 
   LidGeometry lids;  // each lid dot's eye corners (lid_geometry.hpp)
@@ -802,23 +941,21 @@ struct MarkerTracker::Impl {
     const auto offset = lids.offset_from_corner_line(i, reference, at, states[inner].position,
                                                      states[outer].position);
     if (!offset) return true;
-    return offset->now >= -options.lid_overshoot_fraction * spacing[i] * face_scale &&
-           offset->now <= options.lid_reach * offset->at_start * face_scale;
+    return offset->now >= -options.eyes.lid_overshoot_fraction * spacing[i] * face_scale &&
+           offset->now <= options.eyes.lid_reach * offset->at_start * face_scale;
   }
 
   // ---- the lower lip (lower_lip_search.hpp) ---------------------------------------------
 
-  bool at_lower_lip(size_t i) const {
-    return tracking::at_lower_lip(states[i].spec->feature_point);
-  }
+  bool at_lower_lip(size_t i) const { return roles[i] == DotRole::LowerLip; }
   // The lower lip opens with the jaw by up to a spacing in a frame (Xface joy), unlike the
   // upper lip and the corners: its dots are no measure of how theirs should move
-  // (TrackerOptions::lower_lip_together; its own dots are still judged by theirs).
+  // (LowerLipOptions::together; its own dots are still judged by theirs).
   bool apart_from_lower_lip(size_t i, size_t j) const {
-    return options.lower_lip_together && at_lower_lip(j) && !at_lower_lip(i);
+    return options.lower_lip.together && at_lower_lip(j) && !at_lower_lip(i);
   }
 
-  // TrackerOptions::lower_lip_together: the lower lip's lost dots found again together
+  // LowerLipOptions::together: the lower lip's lost dots found again together
   // (find_lower_lip). Returns whether the lower lip was searched so (the single-dot search
   // then skips its dots).
   bool reacquire_lower_lip() {
@@ -835,8 +972,7 @@ struct MarkerTracker::Impl {
       scene.followed.push_back({i, s.position, spacing[i]});
     }
     LowerLipSearch search;
-    search.up = options.lower_lip_up, search.down = options.lower_lip_down;
-    search.sideways = options.lower_lip_sideways, search.shape = options.lower_lip_shape;
+    search.options = options.lower_lip;
     search.dots_near = [this](size_t k, cv::Point2d centre, double radius) {
       ensure_gray_around(centre, radius);
       const double least = options.min_contrast_ratio * reference_contrast[k];
@@ -917,6 +1053,7 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
   out.frame = frame;
   out.time_s = time_s;
   for (MarkerState& s : m.states) {
+    if (s.valid) s.lost_reason = LostReason::None;
     s.lost_frames = s.valid ? 0 : s.lost_frames + 1;
     if (!s.valid) s.quality = 0;
     MarkerObservation o;
@@ -928,6 +1065,119 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     out.markers.push_back(o);
   }
   return out;
+}
+
+void TrackerOptions::validate() const {
+  dots.validate();
+  eyes.validate();
+  brows.validate();
+  lower_lip.validate();
+  OptionCheck("TrackerOptions")
+      .positive("reference_dot_px", reference_dot_px)
+      .positive("lk_window", lk_window)
+      .not_negative("lk_levels", lk_levels)
+      .not_negative("region_margin_px", region_margin_px)
+      .positive("max_fb_error", max_fb_error)
+      .positive("max_snap", max_snap)
+      .not_negative("min_contrast_ratio", min_contrast_ratio)
+      .not_negative("tag_margin", tag_margin)
+      .not_negative("tag_decimate_above_px", tag_decimate_above_px)
+      .positive("tag_redetect_every", tag_redetect_every)
+      .positive("search_fraction", search_fraction)
+      .not_negative("max_relative_motion", max_relative_motion)
+      .not_negative("max_relative_motion_px", max_relative_motion_px)
+      .not_negative("min_identified", min_identified)
+      .not_negative("threads", threads);
+}
+
+void set_tracker_option(TrackerOptions& options, const std::string& assignment) {
+  using O = TrackerOptions;
+  static const std::vector<NamedOption<O>> table = {
+      ROSTRO_NAMED_OPTION(O, dots.min_diameter_px),
+      ROSTRO_NAMED_OPTION(O, dots.max_diameter_px),
+      ROSTRO_NAMED_OPTION(O, dots.min_contrast),
+      ROSTRO_NAMED_OPTION(O, dots.min_roundness),
+      ROSTRO_NAMED_OPTION(O, dots.min_roundness_merged),
+      ROSTRO_NAMED_OPTION(O, dots.max_elongation),
+      ROSTRO_NAMED_OPTION(O, dots.max_surround),
+      ROSTRO_NAMED_OPTION(O, dots.edge_fit),
+      ROSTRO_NAMED_OPTION(O, dots.raise_share_for_roundness),
+      ROSTRO_NAMED_OPTION(O, dots.symmetric_centre),
+      ROSTRO_NAMED_OPTION(O, reference_dot_px),
+      ROSTRO_NAMED_OPTION(O, edge_fit_elsewhere),
+      ROSTRO_NAMED_OPTION(O, brows.edge_fit_mid_brows),
+      ROSTRO_NAMED_OPTION(O, eyes.inner_corners_raise_share),
+      ROSTRO_NAMED_OPTION(O, eyes.inner_corners_symmetric_centre),
+      ROSTRO_NAMED_OPTION(O, eyes.inner_corner_max_elongation_large),
+      ROSTRO_NAMED_OPTION(O, lk_window),
+      ROSTRO_NAMED_OPTION(O, lk_levels),
+      ROSTRO_NAMED_OPTION(O, region_margin_px),
+      ROSTRO_NAMED_OPTION(O, max_fb_error),
+      ROSTRO_NAMED_OPTION(O, max_snap),
+      ROSTRO_NAMED_OPTION(O, min_contrast_ratio),
+      ROSTRO_NAMED_OPTION(O, tag_margin),
+      ROSTRO_NAMED_OPTION(O, tag_decimate_above_px),
+      ROSTRO_NAMED_OPTION(O, tag_redetect_every),
+      ROSTRO_NAMED_OPTION(O, search_fraction),
+      ROSTRO_NAMED_OPTION(O, eyes.max_eye_snap),
+      ROSTRO_NAMED_OPTION(O, eyes.lid_sideways_fraction),
+      ROSTRO_NAMED_OPTION(O, eyes.lid_overshoot_fraction),
+      ROSTRO_NAMED_OPTION(O, eyes.lid_reach),
+      ROSTRO_NAMED_OPTION(O, max_relative_motion),
+      ROSTRO_NAMED_OPTION(O, max_relative_motion_px),
+      ROSTRO_NAMED_OPTION(O, lower_lip.together),
+      ROSTRO_NAMED_OPTION(O, lower_lip.up),
+      ROSTRO_NAMED_OPTION(O, lower_lip.down),
+      ROSTRO_NAMED_OPTION(O, lower_lip.sideways),
+      ROSTRO_NAMED_OPTION(O, lower_lip.shape),
+      ROSTRO_NAMED_OPTION(O, eyes.max_dot_growth),
+      ROSTRO_NAMED_OPTION(O, eyes.max_dot_growth_found),
+      ROSTRO_NAMED_OPTION(O, eyes.eye_size_memory_frames),
+      ROSTRO_NAMED_OPTION(O, eyes.edge_on_elongation),
+      ROSTRO_NAMED_OPTION(O, eyes.max_lid_elongation),
+      ROSTRO_NAMED_OPTION(O, eyes.max_lid_surround),
+      ROSTRO_NAMED_OPTION(O, brows.hold_merged_inner_brows),
+      ROSTRO_NAMED_OPTION(O, brows.inner_brow_core_tolerance),
+      ROSTRO_NAMED_OPTION(O, min_identified),
+      ROSTRO_NAMED_OPTION(O, threads),
+  };
+  set_named_option(options, table, "TrackerOptions", assignment);
+}
+
+const char* to_string(LostReason r) {
+  switch (r) {
+    case LostReason::None:
+      return "none";
+    case LostReason::Unidentified:
+      return "unidentified";
+    case LostReason::RoundTrip:
+      return "round trip";
+    case LostReason::NoDot:
+      return "no dot";
+    case LostReason::Snap:
+      return "snap";
+    case LostReason::EyeSnap:
+      return "eye snap";
+    case LostReason::LidElongation:
+      return "lid elongation";
+    case LostReason::LidSurround:
+      return "lid surround";
+    case LostReason::Contrast:
+      return "contrast";
+    case LostReason::Shrunk:
+      return "shrunk";
+    case LostReason::Growth:
+      return "growth";
+    case LostReason::Jump:
+      return "jump";
+    case LostReason::Coincident:
+      return "coincident";
+    case LostReason::LidBand:
+      return "lid band";
+    case LostReason::TagLost:
+      return "tag lost";
+  }
+  return "?";
 }
 
 bool MarkerTracker::started() const {

@@ -11,7 +11,7 @@
 #include "mapping/fap_solver.hpp"
 #include "mapping/hierarchy.hpp"
 #include "mapping/seed2d_mapper.hpp"
-#include "tests/mapping/synthetic_face.hpp"
+#include "tests/support/synthetic_face.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
-#include "tests/tracking/synthetic_scene.hpp"
+#include "tests/support/synthetic_scene.hpp"
 #include "tracking/apriltag_detector.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"

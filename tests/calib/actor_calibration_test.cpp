@@ -8,7 +8,7 @@
 #include "calib/generic_face.hpp"
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
-#include "tests/mapping/synthetic_face.hpp"
+#include "tests/support/synthetic_face.hpp"
 
 namespace rostro::calib {
 namespace {

@@ -63,5 +63,18 @@ TEST(Suite, MarkdownSectionIsReplacedAndTheRestKept) {
   EXPECT_NE(read_all(path).find("kept\n\n## Other\n\nappended\n"), std::string::npos);
 }
 
+TEST(Suite, LossTableHasAColumnPerReasonCounted) {
+  SuiteRow a, b;
+  a.name = "still", a.title = "still head";
+  b.name = "turns", b.title = "head turns";
+  a.lost_by[static_cast<std::size_t>(tracking::LostReason::Jump)] = 3;
+  b.lost_by[static_cast<std::size_t>(tracking::LostReason::LidBand)] = 12;
+  EXPECT_EQ(loss_table_markdown({a, b}),
+            "| scenario | jump | lid band |\n|---|---:|---:|\n| still head | 3 | 0 |\n"
+            "| head turns | 0 | 12 |\n");
+  EXPECT_EQ(loss_table_text({a, b}),
+            "scenario     jump lid band\nstill           3        0\nturns           0       12\n");
+}
+
 }  // namespace
 }  // namespace rostro::eval

@@ -4,9 +4,10 @@
 #include <gtest/gtest.h>
 
 #include "calib/actor_calibration.hpp"
+#include "facecore/error.hpp"
 #include "mapping/fap_mapper.hpp"
-#include "tests/mapping/model_projection.hpp"
-#include "tests/mapping/synthetic_face.hpp"
+#include "tests/support/model_projection.hpp"
+#include "tests/support/synthetic_face.hpp"
 
 namespace rostro::mapping {
 namespace {
@@ -39,6 +40,40 @@ std::vector<tracking::TrackedFrame> neutral_frames(const test::SyntheticActor& a
   std::vector<tracking::TrackedFrame> frames;
   for (int i = 0; i < 15; ++i) frames.push_back(render(a, {}, pose, noise, rng, i));
   return frames;
+}
+
+TEST(FapSolver, BadOptionIsNamedInOneLine) {
+  EXPECT_NO_THROW(SolverOptions{}.validate());
+  const auto actor = make_actor();
+  const auto neutral = head_pose(0, 0, 0);
+  SolverOptions o;
+  o.max_iterations = 0;
+  try {
+    FapSolver solver(test::exact_profile(actor, neutral), o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "SolverOptions::max_iterations = 0: should be > 0");
+  }
+  o = {};
+  o.prior_weight_of[3] = -1;
+  try {
+    o.validate();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "SolverOptions::prior_weight_of[3] = -1: should be >= 0");
+  }
+}
+
+TEST(FapSolver, OptionsSetByName) {
+  SolverOptions o;
+  set_solver_option(o, "pose_prior_weight=0");
+  set_solver_option(o, "max_iterations=40");
+  set_solver_option(o, "model.fit_depth_faps=true");
+  EXPECT_EQ(o.pose_prior_weight, 0);
+  EXPECT_EQ(o.max_iterations, 40);
+  EXPECT_TRUE(o.model.fit_depth_faps);
+  EXPECT_THROW(set_solver_option(o, "prior_weight_of=1"), InputError);
+  EXPECT_THROW(set_solver_option(o, "max_iterations=many"), InputError);
 }
 
 TEST(FapSolver, ExactProfileStillHeadNoiseFree) {

@@ -12,8 +12,8 @@
 #include "mapping/fap_solver.hpp"
 #include "mapping/hierarchy.hpp"
 #include "mapping/marker_model.hpp"
-#include "tests/mapping/model_projection.hpp"
-#include "tests/mapping/synthetic_face.hpp"
+#include "tests/support/model_projection.hpp"
+#include "tests/support/synthetic_face.hpp"
 
 namespace rostro::mapping {
 namespace {

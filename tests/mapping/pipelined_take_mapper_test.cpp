@@ -12,7 +12,7 @@
 #include "facecore/error.hpp"
 #include "mapping/hierarchy.hpp"
 #include "mapping/take_mapper.hpp"
-#include "synthetic_face.hpp"
+#include "tests/support/synthetic_face.hpp"
 #include "tracking/layout.hpp"
 
 namespace rostro {

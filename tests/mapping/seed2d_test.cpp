@@ -5,7 +5,7 @@
 #include "facecore/error.hpp"
 #include "mapping/fap_mapper.hpp"
 #include "mapping/seed2d_mapper.hpp"
-#include "tests/mapping/synthetic_face.hpp"
+#include "tests/support/synthetic_face.hpp"
 
 namespace rostro::mapping {
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 
 #include "facecore/error.hpp"
-#include "synthetic_face.hpp"
+#include "tests/support/synthetic_face.hpp"
 #include "tracking/layout.hpp"
 
 namespace rostro {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/tracking/drawn_layout.hpp"
+#include "tests/support/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
@@ -111,7 +111,7 @@ TEST(BrowMerge, MeasuredOnTheMergedBlobItIsPixelsOut) {
   // The same take measuring the merged blob as it is (what the option guards against): the
   // centre moves out along the eyebrow, so the scene does test the merge.
   TrackerOptions o;
-  o.hold_merged_inner_brows = false;
+  o.brows.hold_merged_inner_brows = false;
   const BrowTrack t = track_brow(o);
   double worst = 0;
   for (double d : t.dx)

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/tracking/drawn_layout.hpp"
+#include "tests/support/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
@@ -91,7 +91,7 @@ TEST(EyeCornerMerge, EdgeOnCornerDotMergedWithTheSlitIsLostNotMisplaced) {
 // guards against; if it stops happening, the scene no longer reproduces the merge.
 TEST(EyeCornerMerge, StartSizeRuleTakesTheMergedBlob) {
   TrackerOptions options;
-  options.eye_size_memory_frames = 0;
+  options.eyes.eye_size_memory_frames = 0;
   const std::vector<double> errors = track_corner(options);
   ASSERT_EQ(errors.size(), static_cast<size_t>(kFrames));
   const double worst = *std::max_element(errors.begin() + kMerged, errors.end());

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/tracking/drawn_layout.hpp"
+#include "tests/support/drawn_layout.hpp"
 #include "tracking/dot_detector.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
@@ -139,7 +139,7 @@ TEST(EyeDots, LineRaisesTheShareOnlyWhenAsked) {
 
 // The inner corner seen steeply (the head turned away from it): a blob more than 3 times as
 // tall as wide, which large dots (12 px here, as at 1280x720) may be
-// (TrackerOptions::inner_corner_max_elongation_large); held to the general 3 it is lost.
+// (EyeOptions::inner_corner_max_elongation_large); held to the general 3 it is lost.
 TEST(EyeDots, SteeplySeenInnerCornerOfLargeDotsIsKept) {
   const MarkerLayout layout = default_layout();
   LeftEye steep;
@@ -171,7 +171,7 @@ TEST(EyeDots, SteeplySeenInnerCornerOfLargeDotsIsKept) {
   ASSERT_TRUE(kept.valid);
   EXPECT_LT(cv::norm(kept.position - inner), 0.3);
   TrackerOptions general;
-  general.inner_corner_max_elongation_large = 3;
+  general.eyes.inner_corner_max_elongation_large = 3;
   EXPECT_FALSE(inner_corner_after_turn(general).valid);
 }
 

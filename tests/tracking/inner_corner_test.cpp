@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/tracking/drawn_layout.hpp"
+#include "tests/support/drawn_layout.hpp"
 #include "tracking/dot_detector.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
@@ -161,7 +161,7 @@ double worst_inner_corner_error(const TrackerOptions& options) {
 TEST(InnerCorner, TrackerHoldsTheInnerCornersAsTheLineGrows) {
   EXPECT_LT(worst_inner_corner_error({}), 0.1);
   TrackerOptions centroid;
-  centroid.inner_corners_symmetric_centre = false;
+  centroid.eyes.inner_corners_symmetric_centre = false;
   EXPECT_GT(worst_inner_corner_error(centroid), 0.3) << "the drawing does not pull the centroid";
 }
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-namespace rostro::tracking {
+namespace rostro::tracking::internal {
 namespace {
 
 // A layout's markers in an order of their own: a brow dot, the left eye's upper lid, outer and
@@ -76,4 +76,4 @@ TEST(LidGeometryTest, OffsetIsPositiveOnTheLidsOwnSide) {
 }
 
 }  // namespace
-}  // namespace rostro::tracking
+}  // namespace rostro::tracking::internal

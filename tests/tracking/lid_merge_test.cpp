@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/tracking/drawn_layout.hpp"
+#include "tests/support/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
@@ -71,7 +71,7 @@ TEST(LidMerge, WithoutTheGrowthCheckTheMergedBlobIsMeasured) {
   // The same take with the check off: the dot is measured on the dot+pupil blob, pixels off
   // (what the check above guards against).
   TrackerOptions o;
-  o.max_dot_growth = o.max_dot_growth_found = 100;
+  o.eyes.max_dot_growth = o.eyes.max_dot_growth_found = 100;
   const std::vector<double> errors = track_lid(o);
   double worst = 0;
   for (double e : errors) worst = std::max(worst, e);

@@ -17,7 +17,7 @@
 #include "tracking/affine2d.hpp"
 #include "tracking/dot_detector.hpp"
 
-namespace rostro::tracking {
+namespace rostro::tracking::internal {
 namespace {
 
 void disc(cv::Mat& image, cv::Point2d centre, double radius, int grey) {
@@ -139,4 +139,4 @@ TEST(LowerLipSearch, NotSearchedWhenNoneIsLost) {
 }
 
 }  // namespace
-}  // namespace rostro::tracking
+}  // namespace rostro::tracking::internal

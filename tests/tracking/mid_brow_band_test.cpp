@@ -2,7 +2,7 @@
 // brow rises the band slides against the dot, and the dot comes to sit at the band's upper edge
 // with most of the band below it. Its centroid is then pulled toward the band: on the rendered
 // head (Xface fear at 640x480) 0.3 px down, which was 5-6 % of raise_m_eyebrow's range. The
-// tracker measures these dots by their edge (TrackerOptions::edge_fit_mid_brows).
+// tracker measures these dots by their edge (BrowOptions::edge_fit_mid_brows).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
-#include "tests/tracking/drawn_layout.hpp"
+#include "tests/support/drawn_layout.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 
@@ -90,7 +90,7 @@ TEST(MidBrowBand, DotAtTheBandsEdgeIsCentredByItsRim) {
 TEST(MidBrowBand, ItsCentroidIsPulledTowardTheBand) {
   // The scene's pull is real: measured by the centroid, the dot comes out well below its centre.
   TrackerOptions o;
-  o.edge_fit_mid_brows = false;
+  o.brows.edge_fit_mid_brows = false;
   const BandError e = track_mid_brow(o);
   EXPECT_EQ(e.followed, kFrames - 10);
   EXPECT_GT(e.mean_dy, 0.15);

@@ -6,9 +6,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include "facecore/error.hpp"
-#include "tests/tracking/synthetic_scene.hpp"
+#include "tests/support/synthetic_scene.hpp"
 #include "tracking/apriltag_detector.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/layout.hpp"
@@ -140,6 +141,40 @@ TEST(Tracker, OcclusionsAreFlaggedAndMarkersComeBack) {
   EXPECT_EQ(st.late, 0);
   EXPECT_EQ(st.swaps, 0);
   EXPECT_LE(percentile(st.errors, 0.5), 0.2);
+}
+
+// Every invalid marker names the rule that dropped it (or that it was never identified), a
+// valid one none; the dots under a hand are dropped by a rule, not left unidentified.
+TEST(Tracker, EveryLostMarkerNamesTheRuleThatDroppedIt) {
+  MarkerLayout layout = default_layout();
+  SceneOptions o;
+  o.occluders = {{{330, 300, 90, 60}, 10, 19}};
+  SyntheticScene scene(layout, o);
+  MarkerTracker tracker(layout, options_for(o));
+  for (const MarkerState& s : tracker.states())
+    EXPECT_EQ(s.lost_reason, LostReason::Unidentified) << s.spec->id;
+  long hidden = 0;
+  for (int k = 0; k < 20; ++k) {
+    std::map<std::string, Truth> truth;
+    cv::Mat image = scene.render(k, truth);
+    tracker.track(image, k, k / 30.0);
+    for (const MarkerState& s : tracker.states()) {
+      EXPECT_EQ(s.valid, s.lost_reason == LostReason::None)
+          << "frame " << k << ": " << s.spec->id << " " << to_string(s.lost_reason);
+      if (!truth.at(s.spec->id).hidden) continue;
+      ++hidden;
+      EXPECT_NE(s.lost_reason, LostReason::None) << "frame " << k << ": " << s.spec->id;
+      EXPECT_NE(s.lost_reason, LostReason::Unidentified) << "frame " << k << ": " << s.spec->id;
+    }
+  }
+  EXPECT_GT(hidden, 0);
+}
+
+TEST(Tracker, EachLostReasonHasItsOwnName) {
+  std::set<std::string> names;
+  for (int k = 0; k < kLostReasonCount; ++k) names.insert(to_string(static_cast<LostReason>(k)));
+  EXPECT_EQ(names.size(), static_cast<size_t>(kLostReasonCount));
+  EXPECT_STREQ(to_string(LostReason::LidBand), "lid band");
 }
 
 TEST(Tracker, IdentifiesWithoutTagsAndWhenTurned) {

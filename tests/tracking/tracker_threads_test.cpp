@@ -9,7 +9,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "tests/tracking/synthetic_scene.hpp"
+#include "tests/support/synthetic_scene.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 

@@ -1,4 +1,4 @@
-#include "tests/tracking/synthetic_scene.hpp"
+#include "tests/support/synthetic_scene.hpp"
 
 #include <cmath>
 #include <numbers>

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
 #include "speech/animator.hpp"
 #include "speech/key_shapes.hpp"
@@ -108,6 +109,21 @@ TEST_F(AnimatorTest, HighLevelFapsCarryTheVisemeBlend) {
   EXPECT_TRUE(f.has(1));
   EXPECT_TRUE(f.has(2));
   EXPECT_TRUE(f.viseme.select1 == 10 || f.viseme.select2 == 10);
+}
+
+TEST_F(AnimatorTest, BadOptionIsNamedInOneLine) {
+  EXPECT_NO_THROW(AnimationOptions{}.validate());
+  AnimationOptions o;
+  o.fps = 0;
+  try {
+    make(o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "AnimationOptions::fps = 0: should be > 0");
+  }
+  o = {};
+  o.base_intensity = 1.5;
+  EXPECT_THROW(make(o), InputError);
 }
 
 }  // namespace
