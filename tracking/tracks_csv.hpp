@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "facecore/atomic_file.hpp"
@@ -22,6 +23,8 @@ class TracksWriter {
   explicit TracksWriter(const std::filesystem::path& path);
   void write(const TrackedFrame& frame);
   void finish();
+  // The same under another name (a take kept after a failure).
+  void finish_as(const std::filesystem::path& destination);
 
  private:
   AtomicFile file_;
@@ -31,11 +34,14 @@ class TracksWriter {
 class TracksReader {
  public:
   explicit TracksReader(const std::filesystem::path& path);
+  // Reads `text` from memory; `name` stands for the path in messages.
+  TracksReader(std::string name, std::string_view text);
   ~TracksReader();
   // The next frame's rows gathered into one TrackedFrame; false at the end.
   bool next(TrackedFrame& frame);
 
  private:
+  void read_header();
   struct State;
   std::unique_ptr<State> state_;
 };
