@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
 #include "calib/actor_prior.hpp"
@@ -57,6 +58,7 @@ struct ActorArgs {
 };
 
 void run_calibrate_actor(const ActorArgs& a) {
+  check_seconds(a.seconds, "--seconds");
   auto source = capture::open_frame_source(a.source);
   const tracking::MarkerLayout layout = tracking::load_layout(a.layout);
   tracking::MarkerTracker tracker(layout);

@@ -9,7 +9,9 @@
 #include <ctime>
 #include <sstream>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "eval/closed_loop.hpp"
 #include "eval/eval_plots.hpp"
@@ -53,6 +55,7 @@ void eval_tracks(const TracksArgs& a) {
   require_extension(a.report, ".json", "--report");
   require_extension(a.summary, ".md", "--summary");
   require_extension(a.ced, ".png", "--ced");
+  check_fps(a.pts_fps, "--pts-fps");
   eval::TrackEvalOptions o;
   const auto norm = split_commas(a.norm);
   if (norm.size() != 2 || norm[0].empty() || norm[1].empty())
@@ -198,12 +201,17 @@ void eval_suite(const SuiteArgs& a) {
   const Scene scene(a.layout);
 
   std::vector<eval::SuiteRow> rows;
+  // A signal abandons the run before any table is written.
+  InterruptScope interrupt;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     const auto& s = chosen[i];
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.seconds * s.fps));
-    rows.push_back(eval::run_scenario(s, scene.model, &scene.library, scene.layout,
-                                      [&](long done, long) { progress.update(done); }));
+    rows.push_back(
+        eval::run_scenario(s, scene.model, &scene.library, scene.layout, [&](long done, long) {
+          interrupt.throw_if_requested();
+          progress.update(done);
+        }));
     progress.finish();
   }
   std::fputs(eval::suite_table_text(rows).c_str(), stdout);
@@ -244,6 +252,9 @@ void eval_loop(const LoopArgs& a) {
 
   std::vector<eval::LoopResult> results;
   std::string skipped, scenarios;
+  // A signal abandons the run before any table is written (streams of finished scenarios
+  // already in --out stay: each is a whole file).
+  InterruptScope interrupt;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     const auto& s = chosen[i];
     if (!s.skip_reason.empty()) {
@@ -254,8 +265,11 @@ void eval_loop(const LoopArgs& a) {
     scenarios += fmt::format("- **{}**: {}.\n", s.name, describe_drive(s));
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       static_cast<long>(eval::loop_drive(s).frames.size()));
-    results.push_back(eval::run_loop_scenario(s, scene.model, &scene.library, scene.layout,
-                                              [&](long done, long) { progress.update(done); }));
+    results.push_back(
+        eval::run_loop_scenario(s, scene.model, &scene.library, scene.layout, [&](long done, long) {
+          interrupt.throw_if_requested();
+          progress.update(done);
+        }));
     progress.finish();
     if (!a.out.empty()) {
       // The streams behind the tables, for `rostro eval faps --plot`, and the tracks behind

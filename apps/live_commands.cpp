@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/interrupt.hpp"
 #include "calib/camera_intrinsics.hpp"
@@ -28,6 +29,7 @@ struct LiveArgs {
 };
 
 void run_live(const LiveArgs& a) {
+  check_seconds(a.calibration_seconds, "--calibration-seconds");
   live::PipelineOptions o;
   o.camera = a.camera;
   o.layout = tracking::load_layout(a.layout);
