@@ -233,7 +233,14 @@ void run_capture(const CaptureArgs& a) {
       sink->finish_as(partial);
       kept = "the " + std::to_string(sink->frames_written()) + " frames before it are saved in " +
              partial.string() + "; " + a.output + " is untouched";
-      if (tracks && !output_failed) tracks->finish_as(partial_name(a.tracks));
+      if (tracks && !output_failed) {
+        try {
+          tracks->finish_as(partial_name(a.tracks));
+          kept += "; the tracks in " + partial_name(a.tracks).string();
+        } catch (const InputError&) {
+          // The tracks are a by-product: the FAPs are what the take keeps.
+        }
+      }
     }
     throw InputError(*failure + " (" + kept + ")");
   }

@@ -72,6 +72,10 @@ void TracksWriter::write(const TrackedFrame& frame) {
     rows += '\n';
   }
   file_.write(rows);
+  if (const auto now = std::chrono::steady_clock::now(); now >= next_flush_) {
+    file_.flush();
+    next_flush_ = now + std::chrono::seconds(1);
+  }
 }
 
 void TracksWriter::finish() {

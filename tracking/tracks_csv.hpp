@@ -6,6 +6,7 @@
 // Details: `fp` is empty for a marker on no MPEG-4 point (a headband tag); `valid` is 0 or 1;
 // x and y may be empty on an invalid row; numbers are written in their shortest exact form.
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -17,7 +18,10 @@
 
 namespace rostro::tracking {
 
-// Streams frames out; the file appears at `path` only on finish().
+// Streams frames out; the file appears at `path` only on finish(). Until then it grows as
+// PATH.tmp-PID, handed to the kernel at least once a second, so that a killed process
+// leaves every whole row up to its last second (a reader stops at a row cut short after
+// handing out every whole frame before it).
 class TracksWriter {
  public:
   explicit TracksWriter(const std::filesystem::path& path);
@@ -28,6 +32,7 @@ class TracksWriter {
 
  private:
   AtomicFile file_;
+  std::chrono::steady_clock::time_point next_flush_;
 };
 
 // Streams frames in. Throws InputError naming the file, the line and what was expected.
