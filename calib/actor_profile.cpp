@@ -150,7 +150,7 @@ ActorProfile actor_profile_from_json(const std::string& text, const std::string&
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number
     throw InputError(context + ": not valid JSON (" + e.what() + ")");
   }
   const Reader r(context);

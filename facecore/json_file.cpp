@@ -31,7 +31,7 @@ nlohmann::json read_json_file(const std::filesystem::path& path, std::string_vie
                      std::strerror(errno));
   try {
     return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number
     throw InputError(path.string() + ": " + std::string(what) +
                      " is not valid JSON: " + json_error_text(e));
   }
@@ -41,7 +41,7 @@ nlohmann::json parse_json_text(std::string_view text, const std::string& name,
                                std::string_view what) {
   try {
     return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for a number
     throw InputError(name + ": " + std::string(what) + " is not valid JSON: " + json_error_text(e));
   }
 }

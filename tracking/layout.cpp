@@ -123,7 +123,7 @@ MarkerLayout parse_layout(const std::string& json_text, const std::string& sourc
   json j;
   try {
     j = json::parse(json_text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number
     fail(source_name, std::string("not valid JSON: ") + e.what());
   }
   if (!j.is_object()) fail(source_name, "a layout should be a JSON object");
