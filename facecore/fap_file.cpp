@@ -389,25 +389,40 @@ void append_number(std::string& out, double value) {
 
 }  // namespace detail
 
+namespace {
+
+// Reads every frame to the end of the file, handing each to `on_frame` and each problem to
+// `on_problem`, which returns false to stop there.
+template <typename OnFrame, typename OnProblem>
+void read_frames(FapTextParser& parser, OnFrame on_frame, OnProblem on_problem) {
+  FapFrame frame;
+  std::string problem;
+  for (;;) {
+    const auto step = parser.next(frame, problem);
+    if (step == FapTextParser::Step::End) return;
+    if (step == FapTextParser::Step::Frame)
+      on_frame(frame);
+    else if (!on_problem(problem))
+      return;
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> validate_fap_file(const std::filesystem::path& path,
                                            std::size_t max_problems) {
   std::vector<std::string> problems;
   FapTextParser parser(path);
   if (auto problem = parser.read_header()) return {*problem};
-  FapFrame frame;
-  std::string problem;
-  for (;;) {
-    const auto step = parser.next(frame, problem);
-    if (step == FapTextParser::Step::End) break;
-    if (step == FapTextParser::Step::Problem) {
-      problems.push_back(problem);
-      if (problems.size() >= max_problems) {
+  read_frames(
+      parser, [](const FapFrame&) {},
+      [&](const std::string& problem) {
+        problems.push_back(problem);
+        if (problems.size() < max_problems) return true;
         problems.push_back(path.string() + ": stopped after " + std::to_string(max_problems) +
                            " problems");
-        break;
-      }
-    }
-  }
+        return false;
+      });
   return problems;
 }
 
@@ -421,17 +436,12 @@ RecoveredTake recover_fap_file(const std::filesystem::path& input,
   FapHeader header = parser.header();
   header.frame_count = 0;
   auto sink = open_fap_sink(output, header);
-  FapFrame frame;
-  std::string problem;
-  for (;;) {
-    const auto step = parser.next(frame, problem);
-    if (step == FapTextParser::Step::End) break;
-    if (step == FapTextParser::Step::Problem) {
-      take.stopped = problem;  // the writer's last, unsynced bytes: keep what came before
-      break;
-    }
-    sink->write(frame);
-  }
+  read_frames(
+      parser, [&](const FapFrame& frame) { sink->write(frame); },
+      [&](const std::string& problem) {
+        take.stopped = problem;  // the writer's last, unsynced bytes: keep what came before
+        return false;
+      });
   take.frames = sink->frames_written();
   sink->finish();
   return take;
