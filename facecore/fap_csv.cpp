@@ -4,6 +4,7 @@
 //   # rostro-fap version=2.1 name=joy fps=25
 //   frame,time_s,viseme_select1,...,expression_def,open_jaw,...,pull_r_ear
 
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -192,6 +193,12 @@ class CsvSink final : public FapSink {
     row_ += '\n';
     file_.write(row_);
     ++written_;
+    // Handed to the kernel once a second: a killed writer leaves every whole row up to its
+    // last second in NAME.csv.tmp-PID.
+    if (const auto now = std::chrono::steady_clock::now(); now >= next_flush_) {
+      file_.flush();
+      next_flush_ = now + std::chrono::seconds(1);
+    }
   }
 
   void finish() override { file_.commit(); }
@@ -208,6 +215,7 @@ class CsvSink final : public FapSink {
   AtomicFile file_;
   std::string row_;
   long written_ = 0;
+  std::chrono::steady_clock::time_point next_flush_;
 };
 
 }  // namespace
