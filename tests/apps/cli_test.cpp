@@ -479,4 +479,26 @@ TEST(CliSafety, TruncatedVideoPrintsOnlyRostrosLine) {
   EXPECT_EQ(std::count(half.output.begin(), half.output.end(), '\n'), 1) << half.output;
 }
 
+// Issue 18: live --record writes through the same crash-safe writer: a live run killed
+// outright leaves a temporary that recovers every checkpointed frame.
+TEST(CliSafety, KilledLiveRecordingIsRecovered) {
+  const auto dir = scratch("live-kill");
+  const fs::path take = dir / "live.fap";
+  const pid_t pid = spawn({"live", "--camera", std::string(ROSTRO_DATA_DIR) + "/samples/take.mp4",
+                           "--layout", layout(), "--headless", "--record", take.string()},
+                          dir / "log");
+  fs::path tmp = take;
+  tmp += ".tmp-" + std::to_string(pid);
+  // The sample plays at 25 fps for 6 s: two checkpointed seconds come after the calibration.
+  ASSERT_TRUE(wait_until(pid, [&] { return checkpointed_frames(tmp) >= 50; }))
+      << slurp(dir / "log");
+  kill(pid, SIGKILL);
+  EXPECT_EQ(wait_for(pid), 128 + SIGKILL);
+  const long vouched = checkpointed_frames(tmp);
+  const CliRun recover = rostro("fap recover " + tmp.string());
+  ASSERT_EQ(recover.exit_code, 0) << recover.output;
+  EXPECT_GE(fap_frames(take), vouched);
+  EXPECT_EQ(rostro("fap validate " + take.string()).exit_code, 0);
+}
+
 }  // namespace
