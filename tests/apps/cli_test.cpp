@@ -316,6 +316,28 @@ TEST(CliSafety, SigtermAndSighupKeepTheTakeSoFar) {
   }
 }
 
+// Runs rostro with `args` writing the take `take`, kills it with SIGKILL once the temporary's
+// header vouches for `frames` frames, and checks that `rostro fap recover` makes a valid take
+// of at least every vouched frame. Returns the temporary.
+fs::path kill_and_recover(const std::vector<std::string>& args, const fs::path& take, long frames) {
+  const fs::path log = take.parent_path() / "log";
+  const pid_t pid = spawn(args, log);
+  fs::path tmp = take;
+  tmp += ".tmp-" + std::to_string(pid);
+  EXPECT_TRUE(wait_until(pid, [&] { return checkpointed_frames(tmp) >= frames; })) << slurp(log);
+  kill(pid, SIGKILL);
+  EXPECT_EQ(wait_for(pid), 128 + SIGKILL);
+  const long vouched = checkpointed_frames(tmp);  // at most a second behind the kill
+  EXPECT_GE(vouched, frames);
+  EXPECT_FALSE(fs::exists(take));
+  const CliRun recover = rostro("fap recover " + tmp.string());
+  EXPECT_EQ(recover.exit_code, 0) << recover.output;
+  EXPECT_NE(recover.output.find(take.string() + ": "), std::string::npos) << recover.output;
+  EXPECT_GE(fap_frames(take), vouched);
+  EXPECT_EQ(rostro("fap validate " + take.string()).exit_code, 0);
+  return tmp;
+}
+
 // Issue 18, 2: a capture killed outright (SIGKILL, a power cut) loses at most its last second:
 // the temporary's header vouches for every frame up to the last checkpoint, and
 // `rostro fap recover` makes a valid take of it.
@@ -323,22 +345,8 @@ TEST(CliSafety, KilledCaptureIsRecoveredUpToItsLastSecond) {
   const auto dir = scratch("capture-kill");
   const fs::path tracks = long_tracks(dir, 100);
   const fs::path take = dir / "take.fap";
-  const pid_t pid =
-      spawn({"capture", tracks.string(), "--layout", layout(), "-o", take.string()}, dir / "log");
-  fs::path tmp = take;
-  tmp += ".tmp-" + std::to_string(pid);
-  ASSERT_TRUE(wait_until(pid, [&] { return checkpointed_frames(tmp) >= 100; }))
-      << slurp(dir / "log");
-  kill(pid, SIGKILL);
-  EXPECT_EQ(wait_for(pid), 128 + SIGKILL);
-  const long vouched = checkpointed_frames(tmp);  // at most a second (25 frames) behind
-  ASSERT_GE(vouched, 100);
-  EXPECT_FALSE(fs::exists(take));
-  const CliRun recover = rostro("fap recover " + tmp.string());
-  ASSERT_EQ(recover.exit_code, 0) << recover.output;
-  EXPECT_NE(recover.output.find(take.string() + ": "), std::string::npos) << recover.output;
-  EXPECT_GE(fap_frames(take), vouched);
-  EXPECT_EQ(rostro("fap validate " + take.string()).exit_code, 0);
+  const fs::path tmp = kill_and_recover(
+      {"capture", tracks.string(), "--layout", layout(), "-o", take.string()}, take, 100);
   // It never replaces a take.
   const CliRun again = rostro("fap recover " + tmp.string());
   EXPECT_EQ(again.exit_code, 1);
@@ -480,25 +488,14 @@ TEST(CliSafety, TruncatedVideoPrintsOnlyRostrosLine) {
 }
 
 // Issue 18: live --record writes through the same crash-safe writer: a live run killed
-// outright leaves a temporary that recovers every checkpointed frame.
+// outright leaves a temporary that recovers every checkpointed frame. The sample plays at
+// 25 fps for 6 s: two checkpointed seconds come after the calibration.
 TEST(CliSafety, KilledLiveRecordingIsRecovered) {
   const auto dir = scratch("live-kill");
   const fs::path take = dir / "live.fap";
-  const pid_t pid = spawn({"live", "--camera", std::string(ROSTRO_DATA_DIR) + "/samples/take.mp4",
-                           "--layout", layout(), "--headless", "--record", take.string()},
-                          dir / "log");
-  fs::path tmp = take;
-  tmp += ".tmp-" + std::to_string(pid);
-  // The sample plays at 25 fps for 6 s: two checkpointed seconds come after the calibration.
-  ASSERT_TRUE(wait_until(pid, [&] { return checkpointed_frames(tmp) >= 50; }))
-      << slurp(dir / "log");
-  kill(pid, SIGKILL);
-  EXPECT_EQ(wait_for(pid), 128 + SIGKILL);
-  const long vouched = checkpointed_frames(tmp);
-  const CliRun recover = rostro("fap recover " + tmp.string());
-  ASSERT_EQ(recover.exit_code, 0) << recover.output;
-  EXPECT_GE(fap_frames(take), vouched);
-  EXPECT_EQ(rostro("fap validate " + take.string()).exit_code, 0);
+  kill_and_recover({"live", "--camera", std::string(ROSTRO_DATA_DIR) + "/samples/take.mp4",
+                    "--layout", layout(), "--headless", "--record", take.string()},
+                   take, 50);
 }
 
 }  // namespace
