@@ -179,9 +179,9 @@ TEST(FapSafety, CsvAndJsonReadersRejectNumbersOutsideTheirMeaning) {
   EXPECT_NE(e.find("in: 'name' should be a string, not 7"), std::string::npos) << e;
   // Found by fuzz_fap_json: a number too long for any type is an out_of_range while
   // parsing, not a parse_error, and was thrown past the reader.
-  e = error_of("{\"format\":\"rostro-fap\",\"fps\":25,\"frames\":[],\"x\":" +
-                   std::string(400, '1') + "}",
-               FapFormat::Json);
+  e = error_of(
+      "{\"format\":\"rostro-fap\",\"fps\":25,\"frames\":[],\"x\":" + std::string(400, '1') + "}",
+      FapFormat::Json);
   EXPECT_NE(e.find("in: the FAP stream is not valid JSON"), std::string::npos) << e;
 }
 
