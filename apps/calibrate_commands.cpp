@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/face_trackers.hpp"
 #include "apps/progress.hpp"
@@ -58,6 +59,7 @@ struct ActorArgs {
 };
 
 void run_calibrate_actor(const ActorArgs& a) {
+  check_seconds(a.seconds, "--seconds");
   const std::unique_ptr<tracking::FaceTracker> tracker = a.face.make();
   const tracking::MarkerLayout& layout = tracker->layout();
   auto source = capture::open_frame_source(a.source);

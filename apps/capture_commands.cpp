@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/face_trackers.hpp"
 #include "apps/interrupt.hpp"
@@ -120,7 +121,14 @@ class CapturePreview {
   render::VideoWriter video_;
 };
 
+// Where a take that failed part-way is kept: take.fap -> take.partial.fap.
+std::filesystem::path partial_name(const std::string& output) {
+  const std::filesystem::path p(output);
+  return p.parent_path() / (p.stem().string() + ".partial" + p.extension().string());
+}
+
 void run_capture(const CaptureArgs& a) {
+  check_seconds(a.calibration_seconds, "--calibration-seconds");
   TrackedInput input(a);
   const tracking::MarkerLayout& layout = input.layout();
   mapping::MapperOptions options;
@@ -179,37 +187,78 @@ void run_capture(const CaptureArgs& a) {
   };
 
   InterruptScope interrupt;
+  // A failure of the input (a camera gone, a bad row) keeps every frame so far; a failure of
+  // an output (a full disk) keeps the frames that reached the disk whole. Either way the
+  // take goes under its own name, and an earlier take of the requested name stays.
   std::optional<std::string> failure;
+  bool output_failed = false;
+  long pushed = 0;
+  const auto guarded_write = [&](const std::vector<FapFrame>& ready) {
+    try {
+      write(ready);
+    } catch (const InputError& e) {
+      failure = e.what();
+      output_failed = true;
+    }
+  };
   tracking::TrackedFrame f;
   cv::Mat view;
-  while (!interrupt.requested()) {
+  while (!interrupt.requested() && !failure) {
     try {
       if (!input.next(f, want_views ? &view : nullptr)) break;
+      if (tracks) tracks->write(f);
     } catch (const InputError& e) {
-      failure = e.what();  // a camera gone mid-take: keep every frame so far
+      failure = e.what();
       break;
     }
-    if (tracks) tracks->write(f);
+    ++pushed;
     if (want_views) views.push_back(view);
-    write(take.push(f));
+    guarded_write(take.push(f));
   }
-  if (!input.face_found() && !interrupt.requested())
+  if (pushed == 0 && !failure) {
+    if (interrupt.requested()) interrupt.throw_if_requested();
+    throw InputError(a.source + (input.has_images() ? ": no frame could be read"
+                                                    : ": the tracks file has no frames"));
+  }
+  if (!input.face_found() && !interrupt.requested() && !failure)
     throw InputError(a.source +
                      (a.face.markerless ? ": no face found in any frame"
                                         : ": the markers were never identified") +
                      "; nothing written");
   // A stopped or broken take with nothing held back (queued, in the fit, or waiting for the
   // calibration) has nothing left to calibrate or map.
-  if (take.held_back() > 0 || !(failure || interrupt.requested())) write(take.finish());
+  if (!output_failed && (take.held_back() > 0 || !(failure || interrupt.requested()))) {
+    try {
+      guarded_write(take.finish());
+    } catch (const InputError& e) {
+      if (!failure) failure = e.what();
+    }
+  }
   progress.finish();
+  if (failure) {
+    const std::filesystem::path partial = partial_name(a.output);
+    std::string kept = "nothing was captured; " + a.output + " is untouched";
+    if (sink->frames_written() > 0) {
+      sink->finish_as(partial);
+      kept = "the " + std::to_string(sink->frames_written()) + " frames before it are saved in " +
+             partial.string() + "; " + a.output + " is untouched";
+      if (tracks && !output_failed) {
+        try {
+          tracks->finish_as(partial_name(a.tracks));
+          kept += "; the tracks in " + partial_name(a.tracks).string();
+        } catch (const InputError&) {
+          // The tracks are a by-product: the FAPs are what the take keeps.
+        }
+      }
+    }
+    throw InputError(*failure + " (" + kept + ")");
+  }
   sink->finish();
   if (tracks) tracks->finish();
   if (preview) preview->finish();
-  std::printf("%s: %ld frames%s\n", a.output.c_str(), sink->frames_written(),
-              interrupt.requested() ? " (stopped by Ctrl-C)" : "");
-  if (failure)
-    throw InputError(*failure + " (the " + std::to_string(sink->frames_written()) +
-                     " frames before it are saved in " + a.output + ")");
+  std::printf(
+      "%s: %ld frames%s\n", a.output.c_str(), sink->frames_written(),
+      interrupt.requested() ? (" (stopped by " + interrupt.signal_name() + ")").c_str() : "");
 }
 
 }  // namespace
@@ -239,8 +288,11 @@ void add_capture_commands(CLI::App& app) {
   cmd->add_option("--size", a.size, "Image size of a tracks .csv source (for default intrinsics)")
       ->capture_default_str();
   cmd->footer(
-      "Ctrl-C stops the take and keeps every frame so far. With --markerless a bare face is\n"
-      "tracked by its 68 landmarks (dlib); frames where it is not found carry no FAPs.\n\n"
+      "Ctrl-C, SIGTERM or SIGHUP stop the take and keep every frame so far. A take that fails\n"
+      "part-way (a camera unplugged, a bad row, a full disk) is kept as NAME.partial.fap and an\n"
+      "earlier NAME.fap stays. After a crash or SIGKILL, 'rostro fap recover NAME.fap.tmp-PID'\n"
+      "gives back every frame up to the last second. With --markerless a bare face is tracked\n"
+      "by its 68 landmarks (dlib); frames where it is not found carry no FAPs.\n\n"
       "Examples:\n  rostro capture take.mp4 "
       "--layout data/layouts/default.json --actor actor.json -o take.fap --tracks take.csv\n"
       "  rostro capture face.mp4 --markerless -o face.fap --preview face-preview.mp4");

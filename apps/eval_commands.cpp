@@ -9,8 +9,10 @@
 #include <ctime>
 #include <sstream>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/face_trackers.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "eval/closed_loop.hpp"
 #include "eval/eval_plots.hpp"
@@ -56,6 +58,7 @@ void eval_tracks(const TracksArgs& a) {
   require_extension(a.report, ".json", "--report");
   require_extension(a.summary, ".md", "--summary");
   require_extension(a.ced, ".png", "--ced");
+  check_fps(a.pts_fps, "--pts-fps");
   eval::TrackEvalOptions o;
   const auto norm = split_commas(a.norm);
   if (norm.size() != 2 || norm[0].empty() || norm[1].empty())
@@ -219,13 +222,19 @@ void eval_suite(const SuiteArgs& a) {
   const Scene scene(a.layout);
 
   std::vector<eval::SuiteRow> rows;
+  // A signal abandons the run before any table is written.
+  InterruptScope interrupt;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     const auto& s = chosen[i];
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.seconds * s.fps));
     rows.push_back(eval::run_scenario(
         s, scene.model, &scene.library, scene.layout,
-        [&](long done, long) { progress.update(done); }, tracker));
+        [&](long done, long) {
+          interrupt.throw_if_requested();
+          progress.update(done);
+        },
+        tracker));
     progress.finish();
   }
   std::fputs(eval::suite_table_text(rows).c_str(), stdout);
@@ -277,6 +286,9 @@ void eval_loop(const LoopArgs& a) {
 
   std::vector<eval::LoopResult> results;
   std::string skipped, scenarios;
+  // A signal abandons the run before any table is written (streams of finished scenarios
+  // already in --out stay: each is a whole file).
+  InterruptScope interrupt;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     const auto& s = chosen[i];
     if (!s.skip_reason.empty()) {
@@ -287,7 +299,10 @@ void eval_loop(const LoopArgs& a) {
     scenarios += fmt::format("- **{}**: {}.\n", s.name, describe_drive(s));
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       static_cast<long>(eval::loop_drive(s).frames.size()));
-    const auto show = [&](long done, long) { progress.update(done); };
+    const auto show = [&](long done, long) {
+      interrupt.throw_if_requested();
+      progress.update(done);
+    };
     if (a.face.markerless)
       results.push_back(eval::run_loop_scenario(
           s, scene.model, &scene.library, [&] { return a.face.make(); }, show, solver));

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
 #include "facecore/error.hpp"
@@ -46,9 +47,31 @@ void convert(const std::string& in, const std::string& out) {
   std::printf("%s: %ld frames\n", out.c_str(), sink->frames_written());
 }
 
+// A killed writer's temporary NAME.fap.tmp-PID: the default output is NAME.fap.
+std::string recovered_name(const std::string& temporary) {
+  const auto mark = temporary.rfind(".tmp-");
+  if (mark == std::string::npos || mark + 5 == temporary.size() ||
+      temporary.find_first_not_of("0123456789", mark + 5) != std::string::npos)
+    throw InputError(temporary + ": not a temporary NAME.fap.tmp-PID; give the output with -o");
+  return temporary.substr(0, mark);
+}
+
+void recover(const std::string& in, std::string out) {
+  if (out.empty()) out = recovered_name(in);
+  if (std::filesystem::exists(out))
+    throw InputError(out + ": exists; give another name with -o (nothing was replaced)");
+  const RecoveredTake take = recover_fap_file(in, out);
+  std::printf("%s: %ld frames recovered from %s (%ld checkpointed by the writer)\n", out.c_str(),
+              take.frames, in.c_str(), take.vouched);
+  if (!take.stopped.empty())
+    std::fprintf(stderr, "rostro fap recover: stopped at the first damaged frame: %s\n",
+                 take.stopped.c_str());
+}
+
 void generate(const std::string& out, double seconds, double fps, const std::string& which,
               unsigned seed) {
-  if (seconds <= 0 || fps <= 0) throw InputError("--seconds and --fps must be positive");
+  check_seconds(seconds, "--seconds");
+  check_fps(fps, "--fps");
   std::array<bool, kFapCount> ids{};
   if (which == "all") {
     ids.fill(true);
@@ -103,6 +126,20 @@ void add_fap_commands(CLI::App& app) {
   convert_cmd->add_option("OUT", out, "output file; written whole or not at all")->required();
   convert_cmd->footer("Example:\n  rostro fap convert take.fap take.csv");
   convert_cmd->callback([] { convert(in, out); });
+
+  static std::string recovered;
+  CLI::App* recover_cmd = fap->add_subcommand(
+      "recover", "Turn the temporary of a killed capture (NAME.fap.tmp-PID) into a valid .fap");
+  recover_cmd->add_option("TEMPORARY", in, "the NAME.fap.tmp-PID a killed process left")
+      ->required();
+  recover_cmd->add_option("-o,--output", recovered,
+                          "where to write (default: NAME.fap, which must not exist)");
+  recover_cmd->footer(
+      "Keeps every whole frame: at least those up to the writer's last checkpoint, a second\n"
+      "before it stopped. The temporary is left as it was.\n\n"
+      "Example:\n  rostro fap recover take.fap.tmp-4242\n"
+      "  rostro fap recover take.fap.tmp-4242 -o take-rescued.fap");
+  recover_cmd->callback([] { recover(in, recovered); });
 
   static double seconds = 4.0, fps = 25.0;
   static std::string which = "face";

@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/face_trackers.hpp"
 #include "apps/interrupt.hpp"
@@ -30,6 +31,7 @@ struct LiveArgs {
 };
 
 void run_live(const LiveArgs& a) {
+  check_seconds(a.calibration_seconds, "--calibration-seconds");
   live::PipelineOptions o;
   o.camera = a.camera;
   o.layout = a.face.make_layout();

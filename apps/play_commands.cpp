@@ -7,7 +7,9 @@
 #include <optional>
 #include <string>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
@@ -108,6 +110,7 @@ void play(const PlayOptions& o) {
   }
   const render::CameraPose pose = render::parse_camera(o.view.camera);
   const render::RenderOptions options = render_options(o.view);
+  if (!o.expression.empty()) check_fps(o.fps, "--fps");
 
   // Check everything the user gave before any output exists.
   std::unique_ptr<FapSource> source;
@@ -161,8 +164,12 @@ void play(const PlayOptions& o) {
 
   render::FaceRenderer face(model, &library, options);
   Progress progress("rendering", header.frame_count);
-  const long count =
-      render::render_stream(*source, face, pose, tee, [&](long done) { progress.update(done); });
+  // A signal abandons the video and the frames: written whole or not at all.
+  InterruptScope interrupt;
+  const long count = render::render_stream(*source, face, pose, tee, [&](long done) {
+    interrupt.throw_if_requested();
+    progress.update(done);
+  });
   progress.finish();
   if (!o.output.empty()) {
     std::printf("%s: %ld frames at %g fps, %dx%d%s\n", o.output.c_str(), count, header.fps,

@@ -4,10 +4,13 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
@@ -39,7 +42,22 @@ struct SpeakArgs {
   bool strict = false;
 };
 
+// Speech is prepared whole (phonemes, audio, keys), so memory grows with the text: about
+// 7 kB a character. Longer texts are refused; split them into several takes.
+constexpr std::size_t kMaxTextBytes = 20000;
+
+void check_text_length(std::size_t bytes, const std::string& what) {
+  if (bytes > kMaxTextBytes)
+    throw InputError(
+        fmt::format("{}: {} bytes of text, more than the {} a take may hold "
+                    "(about 20 minutes of speech); split it into several takes",
+                    what, bytes, kMaxTextBytes));
+}
+
 std::string read_text_file(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec) check_text_length(static_cast<std::size_t>(size), path);
   std::ifstream in(path);
   if (!in) throw InputError(where(path, 0, "cannot open the text file"));
   std::stringstream ss;
@@ -48,7 +66,9 @@ std::string read_text_file(const std::string& path) {
 }
 
 void speak(const SpeakArgs& a) {
-  if (a.fps <= 0.0 || a.fps > 1000.0) throw InputError("--fps must be in (0, 1000]");
+  check_fps(a.fps, "--fps");
+  // A signal abandons the run: the .fap and the WAV are written whole or not at all.
+  InterruptScope interrupt;
   const int sources = !a.text.empty() + !a.text_file.empty() + !a.pho.empty();
   if (sources != 1) throw InputError("give exactly one of: TEXT, --text-file F, --pho F");
   if (!a.audio.empty() && a.pho.empty()) throw InputError("--audio goes with --pho");
@@ -63,6 +83,7 @@ void speak(const SpeakArgs& a) {
   request.pho = a.pho;
   request.audio = a.audio;
   request.text = !a.text_file.empty() ? read_text_file(a.text_file) : a.text;
+  check_text_length(request.text.size(), !a.text_file.empty() ? a.text_file : "TEXT");
 
   const auto behaviour = speech::BehaviourSettings::load_default();
   speech::AnimationOptions options;
@@ -108,9 +129,11 @@ void speak(const SpeakArgs& a) {
   auto sink = open_fap_sink(a.output, header);
   Progress progress("speak", animator.frame_count());
   for (long k = 0; k < animator.frame_count(); ++k) {
+    interrupt.throw_if_requested();
     sink->write(animator.frame(k));
     progress.update(k + 1);
   }
+  interrupt.throw_if_requested();
   sink->finish();
   progress.finish();
   if (!a.wav.empty()) speech::write_wav(a.wav, prepared.audio);
@@ -133,7 +156,8 @@ void add_speech_commands(CLI::App& app) {
                                      "a lip-synced .fap and the speech audio");
   cmd->add_option("text", args->text,
                   "What to say; emotion markup such as {joy 0.7} or <Emo_Reír> (docs/speech.md)");
-  cmd->add_option("--text-file", args->text_file, "Read the text from a UTF-8 file")
+  cmd->add_option("--text-file", args->text_file,
+                  "Read the text from a UTF-8 file (at most 20000 bytes)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--lang", args->language,
                   "Language: es, es-419, pt (Brazil), pt-pt (Portugal), en, en-us, en-gb")

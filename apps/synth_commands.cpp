@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "calib/camera_intrinsics.hpp"
 #include "eval/head_sweeps.hpp"
@@ -33,11 +35,14 @@ void synth(SynthArgs a) {
   if (a.output.empty()) throw InputError("-o/--output: a path prefix is required");
   int w = 0, h = 0;
   char x = 0;
-  if (std::sscanf(a.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16)
-    throw InputError("--size " + a.size + ": expected WIDTHxHEIGHT, e.g. 640x480");
+  if (std::sscanf(a.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 ||
+      w > 8192 || h > 8192)
+    throw InputError("--size " + a.size + ": expected WIDTHxHEIGHT within 16..8192, e.g. 640x480");
   a.o.width = w;
   a.o.height = h;
-  if (!(a.fps > 0)) throw InputError("--fps must be positive");
+  check_fps(a.fps, "--fps");
+  if (a.seconds != 0) check_seconds(a.seconds, "--seconds");
+  if (a.neutral_lead != 0) check_seconds(a.neutral_lead, "--neutral-lead", 3600);
 
   FapStream drive = a.fap.empty() ? eval::range_of_motion(a.fps) : read_fap_stream(a.fap);
   if (a.seconds > 0) {
@@ -72,8 +77,14 @@ void synth(SynthArgs a) {
   vo.fps = drive.header.fps;
   render::VideoWriter sink(video, vo);
   Progress progress("rendering", static_cast<long>(drive.frames.size()));
-  const eval::SynthResult r = eval::synthesize(model, &library, painted, drive, a.o, sink,
-                                               [&](long done) { progress.update(done); });
+  // A signal abandons the clip: its video, truth and drive are written together or not at all.
+  InterruptScope interrupt;
+  const eval::SynthResult r =
+      eval::synthesize(model, &library, painted, drive, a.o, sink, [&](long done) {
+        interrupt.throw_if_requested();
+        progress.update(done);
+      });
+  interrupt.throw_if_requested();
   progress.finish();
   tracking::write_tracks(a.output + ".truth.csv", r.truth);
   write_fap_stream(a.output + ".fap", drive);

@@ -11,8 +11,10 @@
 #include <optional>
 #include <string>
 
+#include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/face_trackers.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
@@ -57,6 +59,7 @@ std::unique_ptr<tracking::FaceTracker> make_tracker(const TrackArgs& args) {
 }
 
 void run_track(const TrackArgs& args) {
+  if (args.fps != 0) check_fps(args.fps, "--fps");
   const std::unique_ptr<tracking::FaceTracker> tracker = make_tracker(args);
   const tracking::MarkerLayout& layout = tracker->layout();
 
@@ -92,7 +95,9 @@ void run_track(const TrackArgs& args) {
   Progress progress("track", total);
   long frame = 0, never_started = 0;
   long valid_sum = 0, marker_sum = 0;
-  while (args.max_frames <= 0 || frame < args.max_frames) {
+  // A signal stops the run; the tracks of every frame so far are kept.
+  InterruptScope interrupt;
+  while ((args.max_frames <= 0 || frame < args.max_frames) && !interrupt.requested()) {
     auto f = source->next();
     if (!f) break;
     const tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
@@ -108,9 +113,12 @@ void run_track(const TrackArgs& args) {
     progress.update(frame);
   }
   progress.finish();
-  if (frame == 0) throw InputError(args.source + ": no frames to track");
+  if (frame == 0) {
+    interrupt.throw_if_requested();
+    throw InputError(args.source + ": no frames to track");
+  }
   // A bare face that never shows gives no tracks at all: nothing is written.
-  if (args.face.markerless && never_started == frame)
+  if (args.face.markerless && never_started == frame && !interrupt.requested())
     throw InputError(args.source + ": no face found in any of its " + std::to_string(frame) +
                      " frames (faces narrower than " +
                      std::to_string(static_cast<int>(args.face.landmarks.min_face_px)) +
@@ -126,7 +134,8 @@ void run_track(const TrackArgs& args) {
   }
   const auto stats = source->stats();
   std::printf(
-      "%ld frames tracked, %ld markers, %.1f%% of marker positions valid, %ld dropped\n", frame,
+      "%ld frames tracked%s, %ld markers, %.1f%% of marker positions valid, %ld dropped\n", frame,
+      interrupt.requested() ? (" (stopped by " + interrupt.signal_name() + ")").c_str() : "",
       static_cast<long>(layout.markers.size()),
       marker_sum ? 100.0 * static_cast<double>(valid_sum) / static_cast<double>(marker_sum) : 0.0,
       static_cast<long>(stats.dropped));

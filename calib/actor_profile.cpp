@@ -150,7 +150,7 @@ ActorProfile actor_profile_from_json(const std::string& text, const std::string&
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number
     throw InputError(context + ": not valid JSON (" + e.what() + ")");
   }
   const Reader r(context);
@@ -173,10 +173,19 @@ ActorProfile actor_profile_from_json(const std::string& text, const std::string&
     }
   }
 
+  // A count stored in an int: a whole number in 0..max, so that the cast never wraps.
+  const auto whole = [&](const json& o, const char* key, const std::string& field, double max) {
+    const double v = r.number(o, key, field);
+    if (!(v >= 0 && v <= max) || v != std::floor(v))
+      r.fail(field + key, "must be a whole number in 0.." + std::to_string(static_cast<long>(max)));
+    return static_cast<int>(v);
+  };
   const json& cam = r.member(j, "camera", "");
   CameraIntrinsics& k = p.camera;
-  k.image_size.width = static_cast<int>(r.positive(cam, "image_width", "camera."));
-  k.image_size.height = static_cast<int>(r.positive(cam, "image_height", "camera."));
+  k.image_size.width = whole(cam, "image_width", "camera.", 65536);
+  k.image_size.height = whole(cam, "image_height", "camera.", 65536);
+  if (k.image_size.width == 0 || k.image_size.height == 0)
+    r.fail("camera.image_width", "and image_height must be positive");
   k.fx = r.positive(cam, "fx", "camera.");
   k.fy = r.positive(cam, "fy", "camera.");
   k.cx = r.number(cam, "cx", "camera.");
@@ -195,8 +204,7 @@ ActorProfile actor_profile_from_json(const std::string& text, const std::string&
     p.neutral_pose = tracking::HeadPose{{rot[0], rot[1], rot[2]}, {tr[0], tr[1], tr[2]}};
   }
   if (j.contains("shape_source")) p.shape_source = r.text(j, "shape_source", "");
-  if (j.contains("neutral_frames"))
-    p.neutral_frames = static_cast<int>(r.number(j, "neutral_frames", ""));
+  if (j.contains("neutral_frames")) p.neutral_frames = whole(j, "neutral_frames", "", 1e9);
 
   const json& markers = r.member(j, "markers", "");
   if (!markers.is_array() || markers.empty()) r.fail("markers", "must be a non-empty array");
@@ -219,8 +227,7 @@ ActorProfile actor_profile_from_json(const std::string& text, const std::string&
       auto pos = r.numbers(jm["position"], 3, field + "position");
       m.position = Eigen::Vector3d(pos[0], pos[1], pos[2]);
     }
-    if (jm.contains("frames_seen"))
-      m.frames_seen = static_cast<int>(r.number(jm, "frames_seen", field));
+    if (jm.contains("frames_seen")) m.frames_seen = whole(jm, "frames_seen", field, 1e9);
     if (jm.contains("rigid")) {
       if (!jm["rigid"].is_boolean()) r.fail(field + "rigid", "must be true or false");
       m.rigid = jm["rigid"].get<bool>();

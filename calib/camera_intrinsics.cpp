@@ -48,21 +48,38 @@ void validate_intrinsics(const CameraIntrinsics& k, const std::string& context) 
     if (!std::isfinite(d)) throw InputError(context + ": distortion coefficients must be finite");
 }
 
-CameraIntrinsics read_intrinsics(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  if (!std::filesystem::exists(path)) throw InputError(name + ": camera intrinsics file not found");
+namespace {
+
+// `input` is a path, or the text itself with cv::FileStorage::MEMORY in `flags`.
+CameraIntrinsics read_storage(const std::string& input, int flags, const std::string& name) {
   cv::FileStorage fs;
   try {
-    if (!fs.open(name, cv::FileStorage::READ))
+    if (!fs.open(input, cv::FileStorage::READ | flags))
       throw InputError(name + ": not an OpenCV FileStorage file (YAML, XML or JSON)");
   } catch (const cv::Exception& e) {
     throw InputError(name + ": not an OpenCV FileStorage file: " + e.err);
+  } catch (const std::exception& e) {
+    // OpenCV's parser lets a damaged file end in std::length_error (found by fuzz_intrinsics).
+    throw InputError(name + ": not an OpenCV FileStorage file: " + e.what());
   }
   cv::Mat K, dist;
   int width = 0, height = 0;
   double rms = -1;
   std::string source;
+  // A matrix's declared size is checked before OpenCV allocates it: a damaged 'cols' would
+  // otherwise ask for gigabytes (found by fuzz_intrinsics).
+  const auto check_size = [&](const char* key, long max_values) {
+    const cv::FileNode node = fs[key];
+    if (!node.isMap()) return;  // reading it below reports what is wrong
+    const long rows = static_cast<int>(node["rows"]), cols = static_cast<int>(node["cols"]);
+    if (rows < 0 || cols < 0 || rows * cols > max_values)
+      throw InputError(name + ": '" + key + "' declares " + std::to_string(rows) + "x" +
+                       std::to_string(cols) + " values, expected at most " +
+                       std::to_string(max_values));
+  };
   try {
+    check_size("camera_matrix", 9);
+    check_size("distortion_coefficients", 14);
     fs["camera_matrix"] >> K;
     fs["distortion_coefficients"] >> dist;
     fs["image_width"] >> width;
@@ -71,8 +88,10 @@ CameraIntrinsics read_intrinsics(const std::filesystem::path& path) {
     if (!fs["source"].empty()) fs["source"] >> source;
   } catch (const cv::Exception& e) {
     throw InputError(name + ": malformed camera intrinsics: " + e.err);
+  } catch (const std::exception& e) {
+    throw InputError(name + ": malformed camera intrinsics: " + e.what());
   }
-  if (K.empty() || K.rows != 3 || K.cols != 3)
+  if (K.empty() || K.rows != 3 || K.cols != 3 || K.channels() != 1)
     throw InputError(name + ": expected a 3x3 'camera_matrix'");
   if (width <= 0 || height <= 0)
     throw InputError(name + ": expected positive 'image_width' and 'image_height'");
@@ -92,6 +111,19 @@ CameraIntrinsics read_intrinsics(const std::filesystem::path& path) {
   k.source = source.empty() ? "file " + name : source;
   validate_intrinsics(k, name);
   return k;
+}
+
+}  // namespace
+
+CameraIntrinsics read_intrinsics(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  if (!std::filesystem::exists(path)) throw InputError(name + ": camera intrinsics file not found");
+  return read_storage(name, 0, name);
+}
+
+CameraIntrinsics parse_intrinsics(const std::string& text, const std::string& name) {
+  if (text.empty()) throw InputError(name + ": empty camera intrinsics");
+  return read_storage(text, cv::FileStorage::MEMORY, name);
 }
 
 void write_intrinsics(const std::filesystem::path& path, const CameraIntrinsics& k) {

@@ -29,6 +29,8 @@ bool is_default_intrinsics(const CameraIntrinsics& intrinsics);
 
 // Throws InputError naming the file and the missing or malformed node.
 CameraIntrinsics read_intrinsics(const std::filesystem::path& path);
+// The same from text in memory (YAML, XML or JSON by content); `name` stands for the path.
+CameraIntrinsics parse_intrinsics(const std::string& text, const std::string& name);
 // Format from the extension (.yml, .yaml, .xml, .json); written atomically.
 void write_intrinsics(const std::filesystem::path& path, const CameraIntrinsics& intrinsics);
 

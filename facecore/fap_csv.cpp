@@ -4,6 +4,8 @@
 //   # rostro-fap version=2.1 name=joy fps=25
 //   frame,time_s,viseme_select1,...,expression_def,open_jaw,...,pull_r_ear
 
+#include <chrono>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -47,30 +49,9 @@ void split_commas(std::string_view line, std::vector<std::string_view>& cells) {
 
 class CsvSource final : public FapSource {
  public:
-  explicit CsvSource(const std::filesystem::path& path) : lines_(path) {
-    std::string_view line;
-    bool have_fps = false;
-    while (lines_.next(line)) {
-      if (line.empty()) continue;
-      if (line.front() == '#') {
-        have_fps |= parse_metadata(line);
-        continue;
-      }
-      break;
-    }
-    split_commas(line, cells_);
-    const auto names = column_names();
-    if (cells_.size() != kColumns)
-      throw InputError(at("CSV header has " + std::to_string(cells_.size()) +
-                          " columns, expected " + std::to_string(kColumns) +
-                          " (frame, time_s, then one per FAP)"));
-    for (std::size_t i = 0; i < kColumns; ++i)
-      if (cells_[i] != names[i])
-        throw InputError(at("CSV column " + std::to_string(i + 1) + " is '" +
-                            std::string(cells_[i]) + "', expected '" + names[i] + "'"));
-    if (!have_fps)
-      throw InputError(
-          at("no '# rostro-fap ... fps=N' line before the header: the frame rate is unknown"));
+  explicit CsvSource(const std::filesystem::path& path) : lines_(path) { read_header(); }
+  CsvSource(std::string name, std::string_view text) : lines_(std::move(name), text) {
+    read_header();
   }
 
   const FapHeader& header() const override { return header_; }
@@ -96,13 +77,15 @@ class CsvSource final : public FapSource {
     std::size_t c = 2;
     int high[10];
     for (int k = 0; k < 10; ++k, ++c) {
+      const HighLevelField& f = k < 4 ? kVisemeFields[k] : kExpressionFields[k - 4];
       double v = 0;
       if (cells_[c].empty()) {
         high[k] = 0;
         continue;
       }
-      if (!parse_double(cells_[c], v)) throw bad_cell(c);
-      high[k] = static_cast<int>(v);
+      if (!parse_double(cells_[c], v) || v < -0.5 || v >= f.max + 0.5)
+        throw bad_cell(c, "a whole number in 0.." + std::to_string(f.max) + " or nothing");
+      high[k] = static_cast<int>(std::lround(v));
       if (k < 4)
         frame.mask.set(kVisemeFap - 1);
       else
@@ -113,13 +96,40 @@ class CsvSource final : public FapSource {
     for (int id = 3; id <= kFapCount; ++id, ++c) {
       if (cells_[c].empty()) continue;
       double v = 0;
-      if (!parse_double(cells_[c], v)) throw bad_cell(c);
+      if (!parse_double(cells_[c], v) || std::abs(v) > kMaxFapValue)
+        throw bad_cell(c, "a number within +-1000000 or nothing");
       frame.set(id, v);
     }
     return true;
   }
 
  private:
+  void read_header() {
+    std::string_view line;
+    bool have_fps = false;
+    while (lines_.next(line)) {
+      if (line.empty()) continue;
+      if (line.front() == '#') {
+        have_fps |= parse_metadata(line);
+        continue;
+      }
+      break;
+    }
+    split_commas(line, cells_);
+    const auto names = column_names();
+    if (cells_.size() != kColumns)
+      throw InputError(at("CSV header has " + std::to_string(cells_.size()) +
+                          " columns, expected " + std::to_string(kColumns) +
+                          " (frame, time_s, then one per FAP)"));
+    for (std::size_t i = 0; i < kColumns; ++i)
+      if (cells_[i] != names[i])
+        throw InputError(at("CSV column " + std::to_string(i + 1) + " is '" +
+                            std::string(cells_[i]) + "', expected '" + names[i] + "'"));
+    if (!have_fps)
+      throw InputError(
+          at("no '# rostro-fap ... fps=N' line before the header: the frame rate is unknown"));
+  }
+
   bool parse_metadata(std::string_view line) {
     std::vector<std::string_view> tokens;
     split_whitespace(line.substr(1), tokens);
@@ -133,16 +143,18 @@ class CsvSource final : public FapSource {
         header_.version = std::string(value);
       else if (key == "name")
         header_.name = std::string(value);
+      else if (key == "fps" && !(parse_double(value, header_.fps) && valid_fps(header_.fps)))
+        throw InputError(at("fps '" + std::string(value) + "' is not a frame rate in (0, 1000]"));
       else if (key == "fps")
-        fps = parse_double(value, header_.fps) && header_.fps > 0;
+        fps = true;
       else if (key == "frames")
         parse_long(value, header_.frame_count);
     }
     return fps;
   }
-  InputError bad_cell(std::size_t c) const {
+  InputError bad_cell(std::size_t c, const std::string& expected) const {
     return InputError(at("column " + column_names()[c] + " holds '" + std::string(cells_[c]) +
-                         "', expected a number or nothing"));
+                         "', expected " + expected));
   }
   std::string at(const std::string& what) const {
     return where(lines_.path(), lines_.line_number(), what);
@@ -181,9 +193,18 @@ class CsvSink final : public FapSink {
     row_ += '\n';
     file_.write(row_);
     ++written_;
+    // Handed to the kernel once a second: a killed writer leaves every whole row up to its
+    // last second in NAME.csv.tmp-PID.
+    if (const auto now = std::chrono::steady_clock::now(); now >= next_flush_) {
+      file_.flush();
+      next_flush_ = now + std::chrono::seconds(1);
+    }
   }
 
   void finish() override { file_.commit(); }
+  void finish_as(const std::filesystem::path& destination) override {
+    file_.commit_as(destination);
+  }
   long frames_written() const override { return written_; }
 
  private:
@@ -194,6 +215,7 @@ class CsvSink final : public FapSink {
   AtomicFile file_;
   std::string row_;
   long written_ = 0;
+  std::chrono::steady_clock::time_point next_flush_;
 };
 
 }  // namespace
@@ -201,6 +223,9 @@ class CsvSink final : public FapSink {
 namespace detail {
 std::unique_ptr<FapSource> open_fap_csv_source(const std::filesystem::path& path) {
   return std::make_unique<CsvSource>(path);
+}
+std::unique_ptr<FapSource> open_fap_csv_source(std::string name, std::string_view text) {
+  return std::make_unique<CsvSource>(std::move(name), text);
 }
 std::unique_ptr<FapSink> open_fap_csv_sink(const std::filesystem::path& path, const FapHeader& h) {
   return std::make_unique<CsvSink>(path, h);

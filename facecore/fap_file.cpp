@@ -4,7 +4,9 @@
 //   the values of the masked FAPs in order (FAP 1 takes 4, FAP 2 takes 6, others 1).
 // Lines starting with '#' are comments.
 
+#include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -30,6 +32,11 @@ namespace {
 class FapTextParser {
  public:
   explicit FapTextParser(const std::filesystem::path& path) : lines_(path) {}
+  FapTextParser(std::string name, std::string_view text) : lines_(std::move(name), text) {}
+
+  // For the temporary of a killed writer: the header's count is a lower bound, and a line
+  // cut short by the end of the file ends the stream instead of being read.
+  void recover() { recovering_ = true; }
 
   // Returns the problem with the header, or nothing.
   std::optional<std::string> read_header();
@@ -54,10 +61,12 @@ class FapTextParser {
   long frames_read_ = 0;
   long last_frame_number_ = -1;
   bool saw_extra_ = false;
+  bool recovering_ = false;
 };
 
 bool FapTextParser::next_content_line(std::string_view& line) {
   while (lines_.next(line)) {
+    if (recovering_ && !lines_.last_line_terminated()) return false;
     std::size_t i = 0;
     while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
     if (i == line.size() || line[i] == '#') continue;
@@ -84,8 +93,8 @@ std::optional<std::string> FapTextParser::read_header() {
     header_.name += " " + std::string(tokens_[i]);
   const std::string_view fps = tokens_[tokens_.size() - 2];
   const std::string_view count = tokens_.back();
-  if (!parse_double(fps, header_.fps) || header_.fps <= 0)
-    return at("header fps '" + std::string(fps) + "' is not a positive number");
+  if (!parse_double(fps, header_.fps) || !valid_fps(header_.fps))
+    return at("header fps '" + std::string(fps) + "' is not a number in (0, 1000]");
   if (!parse_long(count, header_.frame_count) || header_.frame_count < 0)
     return at("header frame count '" + std::string(count) + "' is not a whole number >= 0");
   return std::nullopt;
@@ -94,7 +103,7 @@ std::optional<std::string> FapTextParser::read_header() {
 FapTextParser::Step FapTextParser::next(FapFrame& frame, std::string& problem) {
   std::string_view line;
   if (!next_content_line(line)) {
-    if (frames_read_ < header_.frame_count) {
+    if (frames_read_ < header_.frame_count && !recovering_) {
       problem = where(lines_.path(), lines_.line_number(),
                       "file ends after " + std::to_string(frames_read_) + " frames, header says " +
                           std::to_string(header_.frame_count) + " (truncated?)");
@@ -103,7 +112,7 @@ FapTextParser::Step FapTextParser::next(FapFrame& frame, std::string& problem) {
     }
     return Step::End;
   }
-  if (frames_read_ >= header_.frame_count && !saw_extra_) {
+  if (frames_read_ >= header_.frame_count && !saw_extra_ && !recovering_) {
     saw_extra_ = true;
     problem = at("more frames than the header's count of " + std::to_string(header_.frame_count));
     return Step::Problem;
@@ -130,6 +139,7 @@ FapTextParser::Step FapTextParser::next(FapFrame& frame, std::string& problem) {
     }
   }
   if (!next_content_line(line)) {
+    if (recovering_) return Step::End;
     problem = at("file ends after a mask line: expected the frame's value line (truncated?)");
     frames_read_ = header_.frame_count;
     return Step::Problem;
@@ -166,34 +176,39 @@ FapTextParser::Step FapTextParser::parse_values(FapFrame& frame, std::string_vie
   frame.time_s = static_cast<double>(number) / header_.fps;
   frame.mask = mask_;
   std::size_t t = 1;
-  auto integer = [&](int& out) {
+  // Each value is checked against its type and meaning; a problem quotes its own token.
+  const auto bad = [&](int id, const std::string& which, const std::string& wanted) {
+    problem = at(which + "FAP " + std::to_string(id) + " (" + std::string(fap_info(id).name) +
+                 ") is '" + std::string(tokens_[t]) + "', expected " + wanted);
+    return Step::Problem;
+  };
+  const auto field = [&](int& out, const HighLevelField& f) {
     double v = 0;
-    if (!parse_double(tokens_[t], v)) return false;
+    if (!parse_double(tokens_[t], v) || v < -0.5 || v >= f.max + 0.5) return false;
     out = static_cast<int>(std::lround(v));
     ++t;
     return true;
   };
   for (int id = 1; id <= kFapCount; ++id) {
     if (!mask_.test(static_cast<std::size_t>(id - 1))) continue;
-    const std::size_t first = t;
-    bool ok = true;
-    if (id == kVisemeFap) {
+    if (id == kVisemeFap || id == kExpressionFap) {
       VisemeParams& v = frame.viseme;
-      ok = integer(v.select1) && integer(v.select2) && integer(v.blend) && integer(v.def);
-    } else if (id == kExpressionFap) {
       ExpressionParams& e = frame.expression;
-      ok = integer(e.select1) && integer(e.intensity1) && integer(e.select2) &&
-           integer(e.intensity2) && integer(e.init_face) && integer(e.def);
+      int* viseme[] = {&v.select1, &v.select2, &v.blend, &v.def};
+      int* expression[] = {&e.select1,    &e.intensity1, &e.select2,
+                           &e.intensity2, &e.init_face,  &e.def};
+      const bool is_viseme = id == kVisemeFap;
+      const HighLevelField* fields = is_viseme ? kVisemeFields : kExpressionFields;
+      const int n = is_viseme ? 4 : 6;
+      for (int k = 0; k < n; ++k)
+        if (!field(*(is_viseme ? viseme[k] : expression[k]), fields[k]))
+          return bad(id, std::string(fields[k].name) + " of ",
+                     "a whole number in 0.." + std::to_string(fields[k].max));
     } else {
-      ok = parse_double(tokens_[t], frame.values[static_cast<std::size_t>(id - 1)]);
+      double& value = frame.values[static_cast<std::size_t>(id - 1)];
+      if (!parse_double(tokens_[t], value) || std::abs(value) > kMaxFapValue)
+        return bad(id, "value of ", "a number within +-1000000");
       ++t;
-    }
-    if (!ok) {
-      const std::size_t bad = std::min(t, tokens_.size() - 1);
-      problem =
-          at("value of FAP " + std::to_string(id) + " (" + std::string(fap_info(id).name) +
-             ") is '" + std::string(tokens_[bad == first ? first : bad]) + "', expected a number");
-      return Step::Problem;
     }
   }
   last_frame_number_ = number;
@@ -203,6 +218,9 @@ FapTextParser::Step FapTextParser::parse_values(FapFrame& frame, std::string_vie
 class FapTextSource final : public FapSource {
  public:
   explicit FapTextSource(const std::filesystem::path& path) : parser_(path) {
+    if (auto problem = parser_.read_header()) throw InputError(*problem);
+  }
+  FapTextSource(std::string name, std::string_view text) : parser_(std::move(name), text) {
     if (auto problem = parser_.read_header()) throw InputError(*problem);
   }
   const FapHeader& header() const override { return parser_.header(); }
@@ -223,12 +241,20 @@ class FapTextSource final : public FapSource {
   FapTextParser parser_;
 };
 
-// Writes the count into a fixed-width field at the end of the header line once it is known,
-// so that frames can stream out without knowing their number in advance.
+// A take on disk is readable at every moment (DESIGN.md): the frame count sits in a
+// fixed-width field of the header line, and at each checkpoint (a second of the take, or
+// a second of wall-clock time, whichever comes first) the frames formatted since are
+// appended straight to the kernel and the field is rewritten to vouch for them; the data is
+// synced to the disk at most once a wall-clock second. A process killed at any point leaves
+// the temporary NAME.tmp-PID whose header vouches for every frame up to the last checkpoint,
+// which `rostro fap recover` turns into a valid file. A failed write (a full disk) cuts the
+// temporary back to the last checkpoint, so the frames before it stay whole.
 constexpr int kCountFieldWidth = 12;
 
 class FapTextSink final : public FapSink {
  public:
+  using Clock = std::chrono::steady_clock;
+
   FapTextSink(const std::filesystem::path& path, const FapHeader& header) : file_(path) {
     std::string name = header.name.empty() ? std::string("rostro") : header.name;
     for (char& c : name)
@@ -236,18 +262,22 @@ class FapTextSink final : public FapSink {
     std::string line = header.version + " " + name + " ";
     detail::append_number(line, header.fps);
     line += ' ';
-    count_offset_ = static_cast<long>(line.size());
-    line.append(kCountFieldWidth, ' ');
+    count_offset_ = static_cast<off_t>(line.size());
+    line += count_field(0);
     line += '\n';
-    file_.write(line);
-    buffer_.reserve(1 << 16);
+    file_.append_now(line);
+    durable_offset_ = static_cast<off_t>(line.size());
+    const double fps = std::isfinite(header.fps) ? std::clamp(header.fps, 1.0, 1000.0) : 25.0;
+    frames_per_checkpoint_ = std::max(1L, std::lround(fps));
+    next_checkpoint_ = next_sync_ = Clock::now() + std::chrono::seconds(1);
+    pending_.reserve(1 << 16);
   }
 
   void write(const FapFrame& frame) override {
-    buffer_.clear();
+    if (!failure_.empty()) throw InputError(failure_);
     for (int i = 0; i < kFapCount; ++i) {
-      buffer_ += frame.mask.test(static_cast<std::size_t>(i)) ? '1' : '0';
-      buffer_ += i + 1 < kFapCount ? ' ' : '\n';
+      pending_ += frame.mask.test(static_cast<std::size_t>(i)) ? '1' : '0';
+      pending_ += i + 1 < kFapCount ? ' ' : '\n';
     }
     append_int(frame.index);
     for (int id = 1; id <= kFapCount; ++id) {
@@ -264,38 +294,74 @@ class FapTextSink final : public FapSink {
         space_int(std::lround(frame.values[static_cast<std::size_t>(id - 1)]));
       }
     }
-    buffer_ += '\n';
-    file_.write(buffer_);
+    pending_ += '\n';
     ++written_;
+    if (written_ - durable_frames_ >= frames_per_checkpoint_ || pending_.size() >= (1u << 20) ||
+        Clock::now() >= next_checkpoint_)
+      checkpoint();
   }
 
-  void finish() override {
-    std::FILE* f = file_.handle();
-    char field[kCountFieldWidth + 1];
-    std::snprintf(field, sizeof field, "%-*ld", kCountFieldWidth, written_);
-    if (std::fseek(f, count_offset_, SEEK_SET) != 0 ||
-        std::fwrite(field, 1, kCountFieldWidth, f) != kCountFieldWidth)
-      throw InputError(file_.destination().string() + ": cannot write the frame count");
-    file_.commit();
+  void finish() override { finish_as(file_.destination()); }
+
+  void finish_as(const std::filesystem::path& destination) override {
+    if (failure_.empty()) checkpoint();
+    file_.sync();
+    file_.commit_as(destination);
   }
 
   long frames_written() const override { return written_; }
 
  private:
+  static std::string count_field(long count) {
+    char field[kCountFieldWidth + 1];
+    std::snprintf(field, sizeof field, "%-*ld", kCountFieldWidth, count);
+    return std::string(field, kCountFieldWidth);
+  }
+
+  void checkpoint() {
+    const auto now = Clock::now();
+    next_checkpoint_ = now + std::chrono::seconds(1);
+    if (pending_.empty()) return;
+    try {
+      file_.append_now(pending_);
+    } catch (const InputError& e) {
+      // Keep what reached the disk whole: cut back to the last checkpoint, which the
+      // header's count already vouches for.
+      pending_.clear();
+      written_ = durable_frames_;
+      failure_ = e.what();
+      file_.truncate(durable_offset_);
+      throw;
+    }
+    durable_offset_ += static_cast<off_t>(pending_.size());
+    durable_frames_ = written_;
+    pending_.clear();
+    file_.write_at(count_offset_, count_field(durable_frames_));
+    if (now >= next_sync_) {
+      file_.sync();
+      next_sync_ = now + std::chrono::seconds(1);
+    }
+  }
+
   void append_int(long value) {
     char digits[24];
     auto [end, ec] = std::to_chars(digits, digits + sizeof digits, value);
-    buffer_.append(digits, end);
+    pending_.append(digits, end);
   }
   void space_int(long value) {
-    buffer_ += ' ';
+    pending_ += ' ';
     append_int(value);
   }
 
   AtomicFile file_;
-  std::string buffer_;
-  long count_offset_ = 0;
+  std::string pending_;  // frames formatted since the last checkpoint
+  off_t count_offset_ = 0;
+  off_t durable_offset_ = 0;  // the file's size at the last checkpoint
+  long durable_frames_ = 0;   // the frames the header vouches for
   long written_ = 0;
+  long frames_per_checkpoint_ = 25;
+  Clock::time_point next_checkpoint_, next_sync_;
+  std::string failure_;  // after a failed write: its message
 };
 
 }  // namespace
@@ -311,6 +377,10 @@ std::unique_ptr<FapSink> open_fap_text_sink(const std::filesystem::path& path,
   return std::make_unique<FapTextSink>(path, header);
 }
 
+std::unique_ptr<FapSource> open_fap_text_source(std::string name, std::string_view text) {
+  return std::make_unique<FapTextSource>(std::move(name), text);
+}
+
 void append_number(std::string& out, double value) {
   char digits[32];
   auto [end, ec] = std::to_chars(digits, digits + sizeof digits, value);
@@ -319,26 +389,62 @@ void append_number(std::string& out, double value) {
 
 }  // namespace detail
 
+namespace {
+
+// Reads every frame to the end of the file, handing each to `on_frame` and each problem to
+// `on_problem`, which returns false to stop there.
+template <typename OnFrame, typename OnProblem>
+void read_frames(FapTextParser& parser, OnFrame on_frame, OnProblem on_problem) {
+  FapFrame frame;
+  std::string problem;
+  for (;;) {
+    const auto step = parser.next(frame, problem);
+    if (step == FapTextParser::Step::End) return;
+    if (step == FapTextParser::Step::Frame)
+      on_frame(frame);
+    else if (!on_problem(problem))
+      return;
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> validate_fap_file(const std::filesystem::path& path,
                                            std::size_t max_problems) {
   std::vector<std::string> problems;
   FapTextParser parser(path);
   if (auto problem = parser.read_header()) return {*problem};
-  FapFrame frame;
-  std::string problem;
-  for (;;) {
-    const auto step = parser.next(frame, problem);
-    if (step == FapTextParser::Step::End) break;
-    if (step == FapTextParser::Step::Problem) {
-      problems.push_back(problem);
-      if (problems.size() >= max_problems) {
+  read_frames(
+      parser, [](const FapFrame&) {},
+      [&](const std::string& problem) {
+        problems.push_back(problem);
+        if (problems.size() < max_problems) return true;
         problems.push_back(path.string() + ": stopped after " + std::to_string(max_problems) +
                            " problems");
-        break;
-      }
-    }
-  }
+        return false;
+      });
   return problems;
+}
+
+RecoveredTake recover_fap_file(const std::filesystem::path& input,
+                               const std::filesystem::path& output) {
+  FapTextParser parser(input);
+  parser.recover();
+  if (auto problem = parser.read_header()) throw InputError(*problem);
+  RecoveredTake take;
+  take.vouched = parser.header().frame_count;
+  FapHeader header = parser.header();
+  header.frame_count = 0;
+  auto sink = open_fap_sink(output, header);
+  read_frames(
+      parser, [&](const FapFrame& frame) { sink->write(frame); },
+      [&](const std::string& problem) {
+        take.stopped = problem;  // the writer's last, unsynced bytes: keep what came before
+        return false;
+      });
+  take.frames = sink->frames_written();
+  sink->finish();
+  return take;
 }
 
 }  // namespace rostro

@@ -9,6 +9,9 @@
 namespace rostro::detail {
 
 std::unique_ptr<FapSource> open_fap_text_source(const std::filesystem::path& path);
+std::unique_ptr<FapSource> open_fap_text_source(std::string name, std::string_view text);
+std::unique_ptr<FapSource> open_fap_csv_source(std::string name, std::string_view text);
+std::unique_ptr<FapSource> open_fap_json_source(std::string name, std::string_view text);
 std::unique_ptr<FapSink> open_fap_text_sink(const std::filesystem::path& path, const FapHeader& h);
 std::unique_ptr<FapSource> open_fap_csv_source(const std::filesystem::path& path);
 std::unique_ptr<FapSink> open_fap_csv_sink(const std::filesystem::path& path, const FapHeader& h);

@@ -51,6 +51,25 @@ struct FapFrame {
   bool operator==(const FapFrame&) const = default;
 };
 
+// What the readers accept, so that a number never wraps on its way into a frame: a
+// low-level FAP value within +-kMaxFapValue of its unit (a full head turn is 628319 AU),
+// and each field of FAP 1 and 2 a whole number in 0..max.
+inline constexpr double kMaxFapValue = 1e6;
+struct HighLevelField {
+  const char* name;
+  int max;
+};
+inline constexpr HighLevelField kVisemeFields[4] = {
+    {"select1", 14}, {"select2", 14}, {"blend", 63}, {"def", 1}};
+inline constexpr HighLevelField kExpressionFields[6] = {{"select1", 6},   {"intensity1", 63},
+                                                        {"select2", 6},   {"intensity2", 63},
+                                                        {"init_face", 1}, {"def", 1}};
+// The stream header's frame rate: finite and in (0, kMaxFps].
+inline constexpr double kMaxFps = 1000.0;
+inline bool valid_fps(double fps) {
+  return fps > 0.0 && fps <= kMaxFps;
+}
+
 // The stream header of a .fap file.
 struct FapHeader {
   std::string version = "2.1";

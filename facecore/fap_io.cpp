@@ -30,6 +30,19 @@ std::unique_ptr<FapSource> open_fap_source(const std::filesystem::path& path) {
   return nullptr;
 }
 
+std::unique_ptr<FapSource> open_fap_source(std::string name, std::string_view text,
+                                           FapFormat format) {
+  switch (format) {
+    case FapFormat::Fap:
+      return detail::open_fap_text_source(std::move(name), text);
+    case FapFormat::Csv:
+      return detail::open_fap_csv_source(std::move(name), text);
+    case FapFormat::Json:
+      return detail::open_fap_json_source(std::move(name), text);
+  }
+  return nullptr;
+}
+
 std::unique_ptr<FapSink> open_fap_sink(const std::filesystem::path& path, const FapHeader& header) {
   switch (fap_format_for(path)) {
     case FapFormat::Fap:

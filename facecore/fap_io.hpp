@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "facecore/fap_frame.hpp"
@@ -28,6 +29,10 @@ class FapSink {
   virtual void write(const FapFrame& frame) = 0;
   // Completes the file and moves it into place. Without it the output is discarded.
   virtual void finish() = 0;
+  // The same under another name: a take kept after a failure (NAME.partial.fap). Also after
+  // write() failed (a full disk): the file then holds the frames that reached the disk whole.
+  virtual void finish_as(const std::filesystem::path& destination) = 0;
+  // The frames written so far; after a failed write(), the frames kept.
   virtual long frames_written() const = 0;
 };
 
@@ -37,6 +42,10 @@ enum class FapFormat { Fap, Csv, Json };
 FapFormat fap_format_for(const std::filesystem::path& path);
 
 std::unique_ptr<FapSource> open_fap_source(const std::filesystem::path& path);
+// The same from memory (`text` must outlive the source); `name` stands for the path in
+// messages. For tests and fuzzing.
+std::unique_ptr<FapSource> open_fap_source(std::string name, std::string_view text,
+                                           FapFormat format);
 // `header.frame_count` need not be known in advance: sinks count what they write.
 std::unique_ptr<FapSink> open_fap_sink(const std::filesystem::path& path, const FapHeader& header);
 
@@ -48,6 +57,19 @@ void write_fap_stream(const std::filesystem::path& path, const FapStream& stream
 // each as "path:line: what", instead of stopping at the first.
 std::vector<std::string> validate_fap_file(const std::filesystem::path& path,
                                            std::size_t max_problems = 100);
+
+// Turns the temporary a killed writer left (NAME.fap.tmp-PID) into a valid stream at
+// `output`: every frame whose lines are whole, up to the first line that is not (the
+// writer's last bytes). `vouched` is the header's count, the frames the writer had
+// checkpointed (at most a second before it stopped); `stopped` says why reading ended early,
+// empty when it reached the end of the file.
+struct RecoveredTake {
+  long frames = 0;
+  long vouched = 0;
+  std::string stopped;
+};
+RecoveredTake recover_fap_file(const std::filesystem::path& input,
+                               const std::filesystem::path& output);
 
 // The number of values a value line carries for FAP `id` (4 for FAP 1, 6 for FAP 2, else 1).
 int fap_value_count(int id);

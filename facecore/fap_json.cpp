@@ -5,6 +5,7 @@
 // Written as a stream; read whole (JSON is for interchange with other tools, not for
 // hour-long takes: use .fap or .csv for those).
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "facecore/atomic_file.hpp"
@@ -20,20 +21,10 @@ using nlohmann::json;
 class JsonSource final : public FapSource {
  public:
   explicit JsonSource(const std::filesystem::path& path) : path_(path.string()) {
-    const json doc = read_json_file(path, "the FAP stream");
-    try {
-      if (doc.value("format", "") != "rostro-fap")
-        throw InputError(path_ + ": expected \"format\": \"rostro-fap\"");
-      header_.version = doc.value("version", "2.1");
-      header_.name = doc.value("name", "rostro");
-      header_.fps = doc.at("fps").get<double>();
-      if (header_.fps <= 0) throw InputError(path_ + ": fps must be positive");
-      frames_ = doc.at("frames");
-      if (!frames_.is_array()) throw InputError(path_ + ": \"frames\" must be an array");
-      header_.frame_count = static_cast<long>(frames_.size());
-    } catch (const json::exception& e) {
-      throw InputError(path_ + ": " + e.what());
-    }
+    init(read_json_file(path, "the FAP stream"));
+  }
+  JsonSource(std::string name, std::string_view text) : path_(std::move(name)) {
+    init(parse_json_text(text, path_, "the FAP stream"));
   }
 
   const FapHeader& header() const override { return header_; }
@@ -43,35 +34,71 @@ class JsonSource final : public FapSource {
     const json& f = frames_[next_];
     const std::string here = path_ + ": frames[" + std::to_string(next_) + "]";
     ++next_;
-    try {
-      frame = FapFrame{};
-      frame.index = f.at("frame").get<long>();
-      frame.time_s = f.value("time_s", static_cast<double>(frame.index) / header_.fps);
-      if (f.contains("faps")) {
-        for (const auto& [name, value] : f.at("faps").items()) {
-          const auto id = find_fap(name);
-          if (!id || *id <= kExpressionFap) throw InputError(here + ": unknown FAP '" + name + "'");
-          frame.set(*id, value.get<double>());
-        }
+    if (!f.is_object()) throw InputError(here + " should be an object");
+    frame = FapFrame{};
+    frame.index = json_integer(f, "frame", 0, kMaxFrameIndex, here);
+    frame.time_s =
+        json_number_or(f, "time_s", static_cast<double>(frame.index) / header_.fps, here);
+    if (f.contains("faps")) {
+      const json& faps = f.at("faps");
+      if (!faps.is_object()) throw InputError(here + ": 'faps' should be an object");
+      for (const auto& [name, value] : faps.items()) {
+        const auto id = find_fap(name);
+        if (!id || *id <= kExpressionFap) throw InputError(here + ": unknown FAP '" + name + "'");
+        const double v = json_number(faps, name.c_str(), here + ": faps");
+        if (std::abs(v) > kMaxFapValue)
+          throw InputError(here + ": faps: '" + name + "' should be within +-1000000, not " +
+                           value.dump());
+        frame.set(*id, v);
       }
-      if (f.contains("viseme")) {
-        const json& v = f.at("viseme");
-        frame.set_viseme({v.at("select1").get<int>(), v.at("select2").get<int>(),
-                          v.at("blend").get<int>(), v.value("def", 0)});
+    }
+    const auto high = [&](const char* key, const HighLevelField* fields, int n, int* out[]) {
+      const json& o = f.at(key);
+      const std::string context = here + ": " + key;
+      if (!o.is_object()) throw InputError(context + " should be an object");
+      for (int k = 0; k < n; ++k) {
+        // select1, select2, blend and intensities are required; def and init_face default 0.
+        const std::string name = fields[k].name;
+        const bool optional = name == "def" || name == "init_face";
+        *out[k] = static_cast<int>(
+            optional ? json_integer_or(o, fields[k].name, 0, 0, fields[k].max, context)
+                     : json_integer(o, fields[k].name, 0, fields[k].max, context));
       }
-      if (f.contains("expression")) {
-        const json& e = f.at("expression");
-        frame.set_expression({e.at("select1").get<int>(), e.at("intensity1").get<int>(),
-                              e.at("select2").get<int>(), e.at("intensity2").get<int>(),
-                              e.value("init_face", 0), e.value("def", 0)});
-      }
-    } catch (const json::exception& e) {
-      throw InputError(here + ": " + e.what());
+    };
+    if (f.contains("viseme")) {
+      VisemeParams v;
+      int* out[] = {&v.select1, &v.select2, &v.blend, &v.def};
+      high("viseme", kVisemeFields, 4, out);
+      frame.set_viseme(v);
+    }
+    if (f.contains("expression")) {
+      ExpressionParams e;
+      int* out[] = {&e.select1, &e.intensity1, &e.select2, &e.intensity2, &e.init_face, &e.def};
+      high("expression", kExpressionFields, 6, out);
+      frame.set_expression(e);
     }
     return true;
   }
 
  private:
+  // Frame numbers stay well inside a long, so that index / fps and index + 1 never wrap.
+  static constexpr long kMaxFrameIndex = 1L << 53;
+
+  void init(const json& doc) {
+    if (!doc.is_object()) throw InputError(path_ + ": a FAP stream should be a JSON object");
+    if (json_string_or(doc, "format", "", path_) != "rostro-fap")
+      throw InputError(path_ + ": expected \"format\": \"rostro-fap\"");
+    header_.version = json_string_or(doc, "version", "2.1", path_);
+    header_.name = json_string_or(doc, "name", "rostro", path_);
+    header_.fps = json_number(doc, "fps", path_);
+    if (!valid_fps(header_.fps))
+      throw InputError(path_ + ": 'fps' should be in (0, 1000], not " + doc.at("fps").dump());
+    if (!doc.contains("frames") || !doc.at("frames").is_array())
+      throw InputError(path_ + ": 'frames' should be an array");
+    frames_ = doc.at("frames");
+    header_.frame_count = static_cast<long>(frames_.size());
+  }
+
   std::string path_;
   FapHeader header_;
   json frames_;
@@ -113,9 +140,10 @@ class JsonSink final : public FapSink {
     ++written_;
   }
 
-  void finish() override {
+  void finish() override { finish_as(file_.destination()); }
+  void finish_as(const std::filesystem::path& destination) override {
     file_.write("\n],\"frame_count\":" + std::to_string(written_) + "}\n");
-    file_.commit();
+    file_.commit_as(destination);
   }
   long frames_written() const override { return written_; }
 
@@ -129,6 +157,9 @@ class JsonSink final : public FapSink {
 namespace detail {
 std::unique_ptr<FapSource> open_fap_json_source(const std::filesystem::path& path) {
   return std::make_unique<JsonSource>(path);
+}
+std::unique_ptr<FapSource> open_fap_json_source(std::string name, std::string_view text) {
+  return std::make_unique<JsonSource>(std::move(name), text);
 }
 std::unique_ptr<FapSink> open_fap_json_sink(const std::filesystem::path& path, const FapHeader& h) {
   return std::make_unique<JsonSink>(path, h);

@@ -1,5 +1,6 @@
 #include "facecore/line_reader.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -13,6 +14,17 @@ LineReader::LineReader(const std::filesystem::path& path) : path_(path.string())
   if (std::filesystem::is_directory(path)) throw InputError(path_ + ": is a folder, not a file");
   file_ = std::fopen(path_.c_str(), "rb");
   if (file_ == nullptr) throw InputError(path_ + ": cannot open: " + std::strerror(errno));
+}
+
+LineReader::LineReader(std::string name, std::string_view text)
+    : path_(std::move(name)), buffer_(std::min<std::size_t>(1 << 20, text.size() + 1)) {
+  // fmemopen refuses an empty buffer: an empty text is a reader at its end.
+  if (text.empty()) {
+    eof_ = true;
+    return;
+  }
+  file_ = ::fmemopen(const_cast<char*>(text.data()), text.size(), "rb");
+  if (file_ == nullptr) throw InputError(path_ + ": cannot read from memory");
 }
 
 LineReader::~LineReader() {
@@ -33,6 +45,7 @@ bool LineReader::next(std::string_view& line) {
   for (;;) {
     if (begin_ == end_ && !refill()) {
       if (!have_carry) return false;
+      terminated_ = false;
       break;  // last line without a newline
     }
     const char* start = buffer_.data() + begin_;
@@ -47,11 +60,13 @@ bool LineReader::next(std::string_view& line) {
     begin_ += length + 1;
     if (have_carry) {
       carry_.append(start, length);
+      terminated_ = true;
       break;
     }
     line = std::string_view(start, length);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     ++line_number_;
+    terminated_ = true;
     return true;
   }
   line = carry_;

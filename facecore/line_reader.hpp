@@ -14,6 +14,8 @@ class LineReader {
  public:
   // Throws InputError when the file cannot be opened.
   explicit LineReader(const std::filesystem::path& path);
+  // Reads `text`, which must outlive the reader; `name` stands for the path in messages.
+  LineReader(std::string name, std::string_view text);
   ~LineReader();
   LineReader(const LineReader&) = delete;
   LineReader& operator=(const LineReader&) = delete;
@@ -21,6 +23,9 @@ class LineReader {
   // The next line, valid until the following call; false at the end of the file.
   bool next(std::string_view& line);
   long line_number() const { return line_number_; }
+  // False when the line last handed out ended the file without a line ending (a writer
+  // stopped in the middle of it).
+  bool last_line_terminated() const { return terminated_; }
   const std::string& path() const { return path_; }
 
  private:
@@ -33,6 +38,7 @@ class LineReader {
   bool eof_ = false;
   std::string carry_;  // a line longer than the buffer
   long line_number_ = 0;
+  bool terminated_ = true;
 };
 
 // Splits on spaces and tabs; empty tokens are skipped.

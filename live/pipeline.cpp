@@ -152,7 +152,9 @@ struct Pipeline::Impl {
   void process(Captured& c);
   void finish_calibration();
   void start_recording();
-  void stop_recording();
+  // After a failure (a full disk, a lost network) the take so far is kept as
+  // NAME.partial.fap, so that a failed run is never mistaken for a finished take.
+  void stop_recording(bool failed = false);
   void record(const FapFrame& faps, std::int64_t sequence);
   void render_loop(LiveView* view);
 };
@@ -220,12 +222,19 @@ void Pipeline::Impl::start_recording() {
   log("recording " + recording_path.string());
 }
 
-void Pipeline::Impl::stop_recording() {
+void Pipeline::Impl::stop_recording(bool failed) {
   if (!recording) return;
-  recording->finish();
-  log(fmt::format("{}: {} frames", recording_path.string(), recording->frames_written()));
+  std::filesystem::path kept = recording_path;
+  if (failed) {
+    kept = recording_path.parent_path() /
+           (recording_path.stem().string() + ".partial" + recording_path.extension().string());
+    recording->finish_as(kept);
+  } else {
+    recording->finish();
+  }
+  log(fmt::format("{}: {} frames", kept.string(), recording->frames_written()));
   std::lock_guard lock(mutex);
-  report.recordings.push_back(recording_path);
+  report.recordings.push_back(kept);
   recording.reset();
 }
 
@@ -313,19 +322,22 @@ void Pipeline::Impl::process(Captured& c) {
 }
 
 void Pipeline::Impl::processing_loop() {
+  bool failed = false;
   try {
     while (auto c = frames.take()) {
       if (stopping) break;
       process(*c);
     }
   } catch (const InputError& e) {
-    fail(e.what());  // the network went away
+    fail(e.what());  // the network went away, the disk is full
+    failed = true;
   } catch (const std::exception& e) {
     fail(std::string("processing: ") + e.what());
+    failed = true;
   }
   stopping = true;  // the capture thread stops too
   try {
-    stop_recording();
+    stop_recording(failed);
   } catch (const std::exception& e) {
     fail(e.what());
   }

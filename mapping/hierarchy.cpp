@@ -45,7 +45,7 @@ Hierarchy hierarchy_from_json(const std::string& text, const std::string& contex
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number
     throw InputError(context + ": not valid JSON (" + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("rules") || !j["rules"].is_array())

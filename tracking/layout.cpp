@@ -10,6 +10,7 @@
 
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
+#include "facecore/json_file.hpp"
 
 namespace rostro::tracking {
 namespace {
@@ -34,7 +35,8 @@ MarkerSpec parse_marker(const json& m, size_t index, const std::string& source) 
   std::string context = "marker " + std::to_string(index + 1);
   if (!m.is_object()) fail(source, context + " should be an object");
   MarkerSpec spec;
-  std::string type = m.value("type", std::string("dot"));
+  const std::string here = source + ": " + context;
+  std::string type = json_string_or(m, "type", "dot", here);
   if (type == "dot") {
     spec.kind = MarkerKind::Dot;
     if (!m.contains("id") || !m["id"].is_string() || m["id"].get<std::string>().empty())
@@ -44,18 +46,18 @@ MarkerSpec parse_marker(const json& m, size_t index, const std::string& source) 
       fail(source, context + ": dot id '" + spec.id + "' may not hold ',', ':' or quotes");
   } else if (type == "apriltag") {
     spec.kind = MarkerKind::AprilTag;
-    spec.family = m.value("family", std::string("tag36h11"));
+    spec.family = json_string_or(m, "family", "tag36h11", here);
     if (!kFamilies.count(spec.family))
       fail(source, context + ": unknown AprilTag family '" + spec.family + "'");
-    if (!m.contains("tag_id") || !m["tag_id"].is_number_integer() || m["tag_id"].get<int>() < 0)
+    if (!m.contains("tag_id"))
       fail(source, context + ": an AprilTag needs a non-negative integer 'tag_id'");
-    spec.tag_id = m["tag_id"].get<int>();
+    spec.tag_id = static_cast<int>(json_integer(m, "tag_id", 0, 1 << 20, here));
     spec.id = spec.family + ":" + std::to_string(spec.tag_id);
     if (m.contains("id") && m["id"] != spec.id)
       fail(source, context + ": an AprilTag's id is '" + spec.id + "', not " + m["id"].dump());
     spec.size_mm = number_at(m, "size_mm", source, context);
     if (spec.size_mm <= 0) fail(source, context + ": 'size_mm' should be positive");
-    spec.rotation_deg = m.value("rotation_deg", 0.0);
+    spec.rotation_deg = json_number_or(m, "rotation_deg", 0.0, here);
   } else {
     fail(source, context + ": 'type' should be \"dot\" or \"apriltag\", not '" + type + "'");
   }
@@ -68,7 +70,7 @@ MarkerSpec parse_marker(const json& m, size_t index, const std::string& source) 
   } else if (spec.kind == MarkerKind::Dot) {
     fail(source, context + ": a dot needs the feature point 'fp' it sits on");
   }
-  spec.rigid = m.value("rigid", spec.kind == MarkerKind::AprilTag);
+  spec.rigid = json_bool_or(m, "rigid", spec.kind == MarkerKind::AprilTag, source + ": " + context);
   if (!m.contains("position") || !m["position"].is_array() || m["position"].size() != 3)
     fail(source, context + ": 'position' should be [x, y, z] in millimetres");
   for (const auto& v : m["position"])
@@ -123,19 +125,20 @@ MarkerLayout parse_layout(const std::string& json_text, const std::string& sourc
   json j;
   try {
     j = json::parse(json_text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number
     fail(source_name, std::string("not valid JSON: ") + e.what());
   }
   if (!j.is_object()) fail(source_name, "a layout should be a JSON object");
   MarkerLayout layout;
-  layout.name = j.value("name", std::string());
-  layout.description = j.value("description", std::string());
+  layout.name = json_string_or(j, "name", "", source_name);
+  layout.description = json_string_or(j, "description", "", source_name);
   if (j.contains("dot")) {
     const json& d = j["dot"];
     if (!d.is_object()) fail(source_name, "'dot' should be an object");
-    layout.dot_diameter_mm = d.value("diameter_mm", layout.dot_diameter_mm);
+    layout.dot_diameter_mm =
+        json_number_or(d, "diameter_mm", layout.dot_diameter_mm, source_name + ": dot");
     if (layout.dot_diameter_mm <= 0) fail(source_name, "dot 'diameter_mm' should be positive");
-    std::string polarity = d.value("polarity", std::string("dark"));
+    std::string polarity = json_string_or(d, "polarity", "dark", source_name + ": dot");
     if (polarity == "dark")
       layout.polarity = DotPolarity::Dark;
     else if (polarity == "bright")

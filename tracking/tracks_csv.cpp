@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 #include <string_view>
 
@@ -71,10 +72,18 @@ void TracksWriter::write(const TrackedFrame& frame) {
     rows += '\n';
   }
   file_.write(rows);
+  if (const auto now = std::chrono::steady_clock::now(); now >= next_flush_) {
+    file_.flush();
+    next_flush_ = now + std::chrono::seconds(1);
+  }
 }
 
 void TracksWriter::finish() {
   file_.commit();
+}
+
+void TracksWriter::finish_as(const std::filesystem::path& destination) {
+  file_.commit_as(destination);
 }
 
 void write_tracks(const std::filesystem::path& path, const std::vector<TrackedFrame>& frames) {
@@ -88,7 +97,8 @@ void write_tracks(const std::filesystem::path& path, const std::vector<TrackedFr
 
 struct TracksReader::State {
   std::string path;
-  std::ifstream in;
+  std::unique_ptr<std::istream> stream;
+  std::istream& in() { return *stream; }
   long line_number = 0;
   bool have_pending = false;  // a row already read that starts the next frame
   long pending_line = 0;
@@ -96,6 +106,9 @@ struct TracksReader::State {
   MarkerObservation pending;
   long last_frame = 0;
   bool any_frame = false;
+  // A problem found past the end of a whole frame: reported on the next call, so that the
+  // frame before it is not lost.
+  std::string deferred;
 
   [[noreturn]] void fail(long line, const std::string& what) const {
     throw InputError(where(path, line, what));
@@ -105,8 +118,9 @@ struct TracksReader::State {
     field = trim(field);
     double value = 0;
     auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
-    if (field.empty() || ec != std::errc() || end != field.data() + field.size())
-      fail(line, std::string("column '") + column + "' should be a number, got '" +
+    if (field.empty() || ec != std::errc() || end != field.data() + field.size() ||
+        !std::isfinite(value))
+      fail(line, std::string("column '") + column + "' should be a finite number, got '" +
                      std::string(field) + "'");
     return value;
   }
@@ -124,7 +138,7 @@ struct TracksReader::State {
   // Reads the next data row into pending*; false at the end of the file.
   bool read_row() {
     std::string text;
-    while (std::getline(in, text)) {
+    while (std::getline(in(), text)) {
       ++line_number;
       std::string_view line = trim(text);
       if (line.empty()) continue;
@@ -174,17 +188,29 @@ struct TracksReader::State {
       have_pending = true;
       return true;
     }
-    if (in.bad()) fail(line_number, "read error");
+    if (in().bad()) fail(line_number, "read error");
     return false;
   }
 };
 
 TracksReader::TracksReader(const std::filesystem::path& path) : state_(std::make_unique<State>()) {
   state_->path = path.string();
-  state_->in.open(path);
-  if (!state_->in) throw InputError(where(state_->path, 0, "cannot open the tracks file"));
+  auto file = std::make_unique<std::ifstream>(path);
+  if (!*file) throw InputError(where(state_->path, 0, "cannot open the tracks file"));
+  state_->stream = std::move(file);
+  read_header();
+}
+
+TracksReader::TracksReader(std::string name, std::string_view text)
+    : state_(std::make_unique<State>()) {
+  state_->path = std::move(name);
+  state_->stream = std::make_unique<std::istringstream>(std::string(text));
+  read_header();
+}
+
+void TracksReader::read_header() {
   std::string header;
-  while (std::getline(state_->in, header)) {
+  while (std::getline(state_->in(), header)) {
     ++state_->line_number;
     if (!trim(header).empty()) break;
   }
@@ -196,6 +222,7 @@ TracksReader::TracksReader(const std::filesystem::path& path) : state_(std::make
 TracksReader::~TracksReader() = default;
 
 bool TracksReader::next(TrackedFrame& frame) {
+  if (!state_->deferred.empty()) throw InputError(state_->deferred);
   State& s = *state_;
   if (!s.have_pending && !s.read_row()) return false;
 
@@ -213,9 +240,10 @@ bool TracksReader::next(TrackedFrame& frame) {
   do {
     if (s.pending_frame.frame != frame.frame) {
       if (s.pending_frame.frame < frame.frame)
-        s.fail(s.pending_line, "frame " + std::to_string(s.pending_frame.frame) +
-                                   " comes after frame " + std::to_string(frame.frame) +
-                                   " (frames must be in increasing order)");
+        s.deferred =
+            where(s.path, s.pending_line,
+                  "frame " + std::to_string(s.pending_frame.frame) + " comes after frame " +
+                      std::to_string(frame.frame) + " (frames must be in increasing order)");
       return true;  // the pending row starts the next frame
     }
     if (s.pending_frame.time_s != frame.time_s)
@@ -225,7 +253,13 @@ bool TracksReader::next(TrackedFrame& frame) {
                                  std::to_string(frame.frame));
     frame.markers.push_back(std::move(s.pending));
     s.have_pending = false;
-  } while (s.read_row());
+    try {
+      if (!s.read_row()) break;
+    } catch (const InputError& e) {
+      s.deferred = e.what();
+      break;
+    }
+  } while (true);
   return true;
 }
 

@@ -6,9 +6,11 @@
 // Details: `fp` is empty for a marker on no MPEG-4 point (a headband tag); `valid` is 0 or 1;
 // x and y may be empty on an invalid row; numbers are written in their shortest exact form.
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "facecore/atomic_file.hpp"
@@ -16,26 +18,35 @@
 
 namespace rostro::tracking {
 
-// Streams frames out; the file appears at `path` only on finish().
+// Streams frames out; the file appears at `path` only on finish(). Until then it grows as
+// PATH.tmp-PID, handed to the kernel at least once a second, so that a killed process
+// leaves every whole row up to its last second (a reader stops at a row cut short after
+// handing out every whole frame before it).
 class TracksWriter {
  public:
   explicit TracksWriter(const std::filesystem::path& path);
   void write(const TrackedFrame& frame);
   void finish();
+  // The same under another name (a take kept after a failure).
+  void finish_as(const std::filesystem::path& destination);
 
  private:
   AtomicFile file_;
+  std::chrono::steady_clock::time_point next_flush_;
 };
 
 // Streams frames in. Throws InputError naming the file, the line and what was expected.
 class TracksReader {
  public:
   explicit TracksReader(const std::filesystem::path& path);
+  // Reads `text` from memory; `name` stands for the path in messages.
+  TracksReader(std::string name, std::string_view text);
   ~TracksReader();
   // The next frame's rows gathered into one TrackedFrame; false at the end.
   bool next(TrackedFrame& frame);
 
  private:
+  void read_header();
   struct State;
   std::unique_ptr<State> state_;
 };

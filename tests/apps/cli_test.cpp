@@ -1,13 +1,21 @@
 // The rostro program as a user meets it: exit codes, one-line errors, no partial output.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace {
 
@@ -110,6 +118,384 @@ TEST(Cli, XfaceFearTrackedWithoutSwaps) {
       rostro("eval tracks --truth " + prefix + ".truth.csv --tracks " + prefix + ".tracks.csv");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   EXPECT_NE(eval.output.find("swaps 0 (0 events)"), std::string::npos) << eval.output;
+}
+
+}  // namespace
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string layout() {
+  return std::string(ROSTRO_DATA_DIR) + "/layouts/default.json";
+}
+
+// The sample take's ground-truth tracks (150 frames) repeated `times` times, renumbered.
+fs::path long_tracks(const fs::path& dir, int times) {
+  std::ifstream in(std::string(ROSTRO_DATA_DIR) + "/samples/take.truth.csv");
+  std::string header, line;
+  std::getline(in, header);
+  std::vector<std::string> rows;
+  while (std::getline(in, line))
+    if (!line.empty()) rows.push_back(line);
+  const fs::path path = dir / "long.csv";
+  std::ofstream out(path);
+  out << header << "\n";
+  for (int k = 0; k < times; ++k) {
+    for (const std::string& row : rows) {
+      const auto c1 = row.find(','), c2 = row.find(',', c1 + 1);
+      const long frame = std::stol(row.substr(0, c1)) + 150L * k;
+      out << frame << ',' << static_cast<double>(frame) / 25.0 << row.substr(c2) << "\n";
+    }
+  }
+  return path;
+}
+
+// The first `frames` frames of the sample tracks, then `tail` (a broken row, say).
+fs::path short_tracks(const fs::path& dir, const std::string& name, int frames,
+                      const std::string& tail) {
+  std::ifstream in(std::string(ROSTRO_DATA_DIR) + "/samples/take.truth.csv");
+  std::string line;
+  const fs::path path = dir / name;
+  std::ofstream out(path);
+  std::getline(in, line);
+  out << line << "\n";
+  while (std::getline(in, line) && std::stol(line.substr(0, line.find(','))) < frames)
+    out << line << "\n";
+  out << tail;
+  return path;
+}
+
+// rostro in the background, its output in `log`.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    std::vector<std::string> all = {std::string(ROSTRO_BINARY_DIR) + "/rostro"};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// The exit code, or 128 + the signal that ended it.
+int wait_for(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// The header's frame count of a take being written (the temporary), -1 while unreadable.
+long checkpointed_frames(const fs::path& temporary) {
+  std::ifstream in(temporary);
+  std::string version, name, fps, count;
+  if (!(in >> version >> name >> fps >> count)) return -1;
+  try {
+    return std::stol(count);
+  } catch (const std::exception&) {
+    return -1;
+  }
+}
+
+// Waits (polling, up to a minute) until `ready` or the process has ended; true when ready.
+template <typename Ready>
+bool wait_until(pid_t pid, Ready ready) {
+  for (int i = 0; i < 6000; ++i) {
+    if (ready()) return true;
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+// Lines from rostro's error path ("rostro: ..."); notes such as the calibration's are apart.
+long error_lines(const std::string& output) {
+  long n = 0;
+  std::istringstream in(output);
+  for (std::string line; std::getline(in, line);) n += line.rfind("rostro: ", 0) == 0;
+  return n;
+}
+
+long fap_frames(const fs::path& fap) {
+  std::ifstream in(fap);
+  std::string version, name, fps;
+  long count = -1;
+  in >> version >> name >> fps >> count;
+  return count;
+}
+
+// Issue 18, 1: a capture that fails leaves the previous take as it was, and keeps what it
+// captured under its own announced name.
+TEST(CliSafety, FailedCaptureKeepsThePreviousTakeAndThePartOfTheNew) {
+  const auto dir = scratch("failed-capture");
+  const std::string take = (dir / "take.fap").string();
+  const fs::path good = short_tracks(dir, "good.csv", 60, "");
+  ASSERT_EQ(rostro("capture " + good.string() + " --layout " + layout() + " -o " + take).exit_code,
+            0);
+  const std::string before = slurp(take);
+  ASSERT_EQ(fap_frames(take), 60);
+
+  // A malformed row after 40 frames.
+  const fs::path bad = short_tracks(dir, "bad.csv", 40, "40,1.6,brow_r_mid,4.4,x,y,1,1\n");
+  const CliRun run = rostro("capture " + bad.string() + " --layout " + layout() + " -o " + take);
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_EQ(error_lines(run.output), 1) << run.output;
+  EXPECT_NE(run.output.find("bad.csv:"), std::string::npos) << run.output;
+  EXPECT_NE(
+      run.output.find("40 frames before it are saved in " + (dir / "take.partial.fap").string()),
+      std::string::npos)
+      << run.output;
+  EXPECT_EQ(slurp(take), before);
+  EXPECT_EQ(fap_frames(dir / "take.partial.fap"), 40);
+  EXPECT_EQ(rostro("fap validate " + (dir / "take.partial.fap").string()).exit_code, 0);
+
+  // Frames out of order at once: nothing captured, nothing written.
+  fs::remove(dir / "take.partial.fap");
+  const fs::path disorder = short_tracks(dir, "disorder.csv", 0, "");
+  std::ofstream(disorder, std::ios::app) << "5,0.2,brow_r_mid,4.4,1,2,1,1\n"
+                                         << "3,0.1,brow_r_mid,4.4,1,2,1,1\n";
+  const CliRun second =
+      rostro("capture " + disorder.string() + " --layout " + layout() + " -o " + take);
+  EXPECT_EQ(second.exit_code, 1) << second.output;
+  EXPECT_EQ(slurp(take), before);
+  EXPECT_FALSE(fs::exists(dir / "take.partial.fap"));
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+}
+
+// Issue 18, 7: a tracks CSV with only its header says so.
+TEST(CliSafety, HeaderOnlyTracksSayTheFileHasNoFrames) {
+  const auto dir = scratch("header-only");
+  const fs::path empty = short_tracks(dir, "empty.csv", 0, "");
+  const CliRun run = rostro("capture " + empty.string() + " --layout " + layout() + " -o " +
+                            (dir / "take.fap").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("empty.csv: the tracks file has no frames"), std::string::npos)
+      << run.output;
+  EXPECT_FALSE(fs::exists(dir / "take.fap"));
+}
+
+// Issue 18, 2: SIGTERM and SIGHUP stop a capture as Ctrl-C does, keeping every frame so far.
+TEST(CliSafety, SigtermAndSighupKeepTheTakeSoFar) {
+  const auto dir = scratch("capture-signals");
+  const fs::path tracks = long_tracks(dir, 100);
+  for (const int signal : {SIGTERM, SIGHUP, SIGINT}) {
+    const fs::path take = dir / ("take" + std::to_string(signal) + ".fap");
+    const fs::path temporary = take.string() + ".tmp-";
+    const pid_t pid = spawn({"capture", tracks.string(), "--layout", layout(), "-o", take.string()},
+                            dir / "log.txt");
+    fs::path tmp = take;
+    tmp += ".tmp-" + std::to_string(pid);
+    ASSERT_TRUE(wait_until(pid, [&] { return checkpointed_frames(tmp) >= 50; }))
+        << "the capture ended before it was stopped: " << slurp(dir / "log.txt");
+    kill(pid, signal);
+    EXPECT_EQ(wait_for(pid), 0) << slurp(dir / "log.txt");
+    const std::string log = slurp(dir / "log.txt");
+    EXPECT_NE(log.find(signal == SIGINT    ? "stopped by Ctrl-C"
+                       : signal == SIGTERM ? "stopped by SIGTERM"
+                                           : "stopped by SIGHUP"),
+              std::string::npos)
+        << log;
+    EXPECT_GE(fap_frames(take), 50);
+    EXPECT_EQ(rostro("fap validate " + take.string()).exit_code, 0);
+    EXPECT_FALSE(fs::exists(tmp));
+  }
+}
+
+// Runs rostro with `args` writing the take `take`, kills it with SIGKILL once the temporary's
+// header vouches for `frames` frames, and checks that `rostro fap recover` makes a valid take
+// of at least every vouched frame. Returns the temporary.
+fs::path kill_and_recover(const std::vector<std::string>& args, const fs::path& take, long frames) {
+  const fs::path log = take.parent_path() / "log";
+  const pid_t pid = spawn(args, log);
+  fs::path tmp = take;
+  tmp += ".tmp-" + std::to_string(pid);
+  EXPECT_TRUE(wait_until(pid, [&] { return checkpointed_frames(tmp) >= frames; })) << slurp(log);
+  kill(pid, SIGKILL);
+  EXPECT_EQ(wait_for(pid), 128 + SIGKILL);
+  const long vouched = checkpointed_frames(tmp);  // at most a second behind the kill
+  EXPECT_GE(vouched, frames);
+  EXPECT_FALSE(fs::exists(take));
+  const CliRun recover = rostro("fap recover " + tmp.string());
+  EXPECT_EQ(recover.exit_code, 0) << recover.output;
+  EXPECT_NE(recover.output.find(take.string() + ": "), std::string::npos) << recover.output;
+  EXPECT_GE(fap_frames(take), vouched);
+  EXPECT_EQ(rostro("fap validate " + take.string()).exit_code, 0);
+  return tmp;
+}
+
+// Issue 18, 2: a capture killed outright (SIGKILL, a power cut) loses at most its last second:
+// the temporary's header vouches for every frame up to the last checkpoint, and
+// `rostro fap recover` makes a valid take of it.
+TEST(CliSafety, KilledCaptureIsRecoveredUpToItsLastSecond) {
+  const auto dir = scratch("capture-kill");
+  const fs::path tracks = long_tracks(dir, 100);
+  const fs::path take = dir / "take.fap";
+  const fs::path tmp = kill_and_recover(
+      {"capture", tracks.string(), "--layout", layout(), "-o", take.string()}, take, 100);
+  // It never replaces a take.
+  const CliRun again = rostro("fap recover " + tmp.string());
+  EXPECT_EQ(again.exit_code, 1);
+  EXPECT_NE(again.output.find("exists"), std::string::npos) << again.output;
+}
+
+// Issue 18, 3: a full disk is named, and the frames that reached it are kept.
+TEST(CliSafety, FullDiskIsNamedAndKeepsTheFramesWritten) {
+  const auto dir = scratch("full-disk");
+  const fs::path small = dir / "small";
+  fs::create_directories(small);
+  if (::mount("tmpfs", small.c_str(), "tmpfs", 0, "size=64k") != 0)
+    GTEST_SKIP() << "cannot mount a 64 KiB tmpfs here (not root?)";
+  struct Unmount {
+    fs::path path;
+    ~Unmount() { ::umount2(path.c_str(), MNT_DETACH); }
+  } unmount{small};
+  const fs::path tracks = long_tracks(dir, 10);
+  const fs::path take = small / "take.fap";
+  const CliRun run =
+      rostro("capture " + tracks.string() + " --layout " + layout() + " -o " + take.string());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_EQ(error_lines(run.output), 1) << run.output;
+  EXPECT_NE(run.output.find(take.string() + ": no space left on device"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("saved in " + (small / "take.partial.fap").string()), std::string::npos)
+      << run.output;
+  EXPECT_GT(fap_frames(small / "take.partial.fap"), 25);
+  EXPECT_EQ(rostro("fap validate " + (small / "take.partial.fap").string()).exit_code, 0);
+  EXPECT_FALSE(fs::exists(take));
+}
+
+// Issue 18, 6: `rostro play` stopped by a signal leaves neither the video nor any hidden
+// partial file or folder.
+TEST(CliSafety, InterruptedPlayLeavesNothingBehind) {
+  const auto dir = scratch("play-signal");
+  const std::string fap = (dir / "long.fap").string();
+  ASSERT_EQ(rostro("fap generate --seconds 600 --fps 25 -o " + fap).exit_code, 0);
+  const pid_t pid = spawn({"play", fap, "-o", (dir / "out.mp4").string(), "--frames",
+                           (dir / "frames").string(), "--width", "64", "--height", "64"},
+                          dir / "log");
+  // Started rendering: the hidden folder of frames holds one.
+  const auto rendering = [&] {
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().filename().string().rfind(".frames.partial-", 0) == 0 && !fs::is_empty(e.path()))
+        return true;
+    return false;
+  };
+  if (!wait_until(pid, rendering)) {
+    const std::string log = slurp(dir / "log");
+    if (log.find("OpenGL") != std::string::npos || log.find("EGL") != std::string::npos)
+      GTEST_SKIP() << "no OpenGL: " << log;
+    FAIL() << "play ended before it was stopped: " << log;
+  }
+  kill(pid, SIGTERM);
+  EXPECT_EQ(wait_for(pid), 128 + SIGTERM) << slurp(dir / "log");
+  EXPECT_NE(slurp(dir / "log").find("stopped by SIGTERM"), std::string::npos) << slurp(dir / "log");
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_TRUE(name == "long.fap" || name == "log") << name;
+  }
+}
+
+// Issue 18, 4 and 5: numbers that would wrap, and options that size work, are refused with
+// one line naming the token.
+TEST(CliSafety, NumbersOutsideTheirTypeOrMeaningAreRefused) {
+  const auto dir = scratch("numbers");
+  std::string mask(135, ' ');
+  for (int i = 0; i < 68; ++i) mask[static_cast<std::size_t>(2 * i)] = i == 2 ? '1' : '0';
+  mask.resize(135);
+  std::ofstream(dir / "big.fap") << "2.1 n 25 1\n" << mask << "\n0 99999999999999999999\n";
+  CliRun run = rostro("fap validate " + (dir / "big.fap").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("big.fap:3:"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("'99999999999999999999'"), std::string::npos) << run.output;
+  std::ofstream(dir / "fps.fap") << "2.1 n 1e308 1\n" << mask << "\n0 1\n";
+  run = rostro("fap info " + (dir / "fps.fap").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("'1e308'"), std::string::npos) << run.output;
+
+  run = rostro("speak hola --fps nan -o " + (dir / "s.fap").string());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("--fps nan"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(dir / "s.fap"));
+  run = rostro("synth -o " + (dir / "s").string() + " --seconds 1 --fps 1e9");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("--fps 1000000000: expected a frame rate in (0, 1000]"),
+            std::string::npos)
+      << run.output;
+  run = rostro("synth -o " + (dir / "s").string() + " --seconds -1");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  run = rostro("fap generate --seconds inf -o " + (dir / "g.fap").string());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+
+  // A megabyte of text is refused before any work, in one line.
+  std::ofstream(dir / "long.txt") << std::string(1 << 20, 'a');
+  run = rostro("speak --text-file " + (dir / "long.txt").string() + " -o " +
+               (dir / "s.fap").string() + " --wav " + (dir / "s.wav").string());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+  EXPECT_NE(run.output.find("more than the 20000"), std::string::npos) << run.output;
+}
+
+// Issue 18, 7: JSON type errors name the file and the key, in rostro's one line.
+TEST(CliSafety, LayoutTypeErrorNamesTheKey) {
+  const auto dir = scratch("layout-type");
+  std::string text = slurp(layout());
+  const auto name = text.find("\"name\"");
+  ASSERT_NE(name, std::string::npos);
+  const auto value_end = text.find(',', name);
+  text.replace(name, value_end - name, "\"name\": 42");
+  std::ofstream(dir / "layout.json") << text;
+  const fs::path tracks = short_tracks(dir, "t.csv", 30, "");
+  const CliRun run = rostro("capture " + tracks.string() + " --layout " +
+                            (dir / "layout.json").string() + " -o " + (dir / "t.fap").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+  EXPECT_NE(run.output.find("layout.json: 'name' should be a string, not 42"), std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("json.exception"), std::string::npos) << run.output;
+}
+
+// Issue 18, 7: a truncated or corrupt video prints rostro's one line, not FFmpeg's own.
+TEST(CliSafety, TruncatedVideoPrintsOnlyRostrosLine) {
+  const auto dir = scratch("truncated-video");
+  const std::string video = slurp(std::string(ROSTRO_DATA_DIR) + "/samples/take.mp4");
+  std::ofstream(dir / "head.mp4", std::ios::binary) << video.substr(0, 2000);
+  std::ofstream(dir / "half.mp4", std::ios::binary) << video.substr(0, video.size() / 2);
+  const CliRun head =
+      rostro("track " + (dir / "head.mp4").string() + " -o " + (dir / "a.csv").string());
+  EXPECT_EQ(head.exit_code, 1);
+  EXPECT_EQ(std::count(head.output.begin(), head.output.end(), '\n'), 1) << head.output;
+  EXPECT_NE(head.output.find("rostro: " + (dir / "head.mp4").string()), std::string::npos)
+      << head.output;
+  const CliRun half =
+      rostro("track " + (dir / "half.mp4").string() + " -o " + (dir / "b.csv").string());
+  EXPECT_EQ(half.output.find("FFMPEG"), std::string::npos) << half.output;
+  EXPECT_EQ(std::count(half.output.begin(), half.output.end(), '\n'), 1) << half.output;
+}
+
+// Issue 18: live --record writes through the same crash-safe writer: a live run killed
+// outright leaves a temporary that recovers every checkpointed frame. The sample plays at
+// 25 fps for 6 s: two checkpointed seconds come after the calibration.
+TEST(CliSafety, KilledLiveRecordingIsRecovered) {
+  const auto dir = scratch("live-kill");
+  const fs::path take = dir / "live.fap";
+  kill_and_recover({"live", "--camera", std::string(ROSTRO_DATA_DIR) + "/samples/take.mp4",
+                    "--layout", layout(), "--headless", "--record", take.string()},
+                   take, 50);
 }
 
 }  // namespace

@@ -132,5 +132,26 @@ TEST(CameraIntrinsics, MalformedFilesAndTheDefault) {
   EXPECT_FALSE(is_default_intrinsics(calibrated));
 }
 
+// Found by fuzz_intrinsics: a damaged matrix size asked OpenCV for gigabytes, and a damaged
+// file ended in std::length_error out of OpenCV's parser; both are one InputError now.
+TEST(CameraIntrinsics, DamagedFilesFromMemoryAreInputErrors) {
+  const std::string good =
+      "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+      "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+      "   data: [ 1000., 0., 320., 0., 1000., 240., 0., 0., 1. ]\n";
+  EXPECT_EQ(parse_intrinsics(good, "mem.yml").fx, 1000);
+  std::string huge = good;
+  huge.replace(huge.find("cols: 3"), 7, "cols: 1000000000");
+  try {
+    parse_intrinsics(huge, "mem.yml");
+    FAIL() << "no error for a matrix of a billion columns";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mem.yml: 'camera_matrix' declares 3x1000000000"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(parse_intrinsics("", "mem.yml"), InputError);
+}
+
 }  // namespace
 }  // namespace rostro::calib

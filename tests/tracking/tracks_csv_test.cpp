@@ -179,11 +179,12 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(
         BadCase{"columns", "0,0,a,2.1,1,2,1,1\n0,0,b,2.1,1,2,1\n", 3, "expected 8 columns"},
         BadCase{"extra", "0,0,a,2.1,1,2,1,1,9\n", 2, "found 9"},
-        BadCase{"number", "0,0,a,2.1,1x,2,1,1\n", 2, "'x' should be a number"},
+        BadCase{"number", "0,0,a,2.1,1x,2,1,1\n", 2, "'x' should be a finite number"},
+        BadCase{"nan", "0,0,a,2.1,nan,2,1,1\n", 2, "'x' should be a finite number, got 'nan'"},
         BadCase{"frame", "zero,0,a,2.1,1,2,1,1\n", 2, "'frame' should be an integer"},
         BadCase{"fp", "0,0,a,12.9,1,2,1,1\n", 2, "unknown feature point '12.9'"},
         BadCase{"valid", "0,0,a,2.1,1,2,2,1\n", 2, "'valid' should be 0 or 1"},
-        BadCase{"emptyvalid", "0,0,a,2.1,,,1,1\n", 2, "'x' should be a number"},
+        BadCase{"emptyvalid", "0,0,a,2.1,,,1,1\n", 2, "'x' should be a finite number"},
         BadCase{"order", "0,0,a,2.1,1,2,1,1\n2,0.1,a,2.1,1,2,1,1\n1,0.05,a,2.1,1,2,1,1\n", 4,
                 "frame 1 comes after frame 2"},
         BadCase{"split", "0,0,a,2.1,1,2,1,1\n1,0.1,a,2.1,1,2,1,1\n0,0,b,2.1,1,2,1,1\n", 4,
@@ -191,6 +192,30 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"dup", "0,0,a,2.1,1,2,1,1\n0,0,a,2.1,1,2,1,1\n", 3, "appears twice"},
         BadCase{"time", "0,0,a,2.1,1,2,1,1\n0,0.5,b,2.1,1,2,1,1\n", 3, "time_s differs"}),
     [](const testing::TestParamInfo<BadCase>& param) { return std::string(param.param.name); });
+
+// A capture stopped by a bad row keeps every whole frame before it: the problem in the row
+// after a frame is reported on the next call, not in place of that frame.
+TEST(TracksCsv, WholeFramesBeforeABadRowAreHandedOut) {
+  TracksReader reader("mem.csv",
+                      "frame,time_s,marker,fp,x,y,valid,quality\n"
+                      "0,0,a,2.1,1,2,1,1\n0,0,b,2.1,1,2,1,1\n"
+                      "1,0.04,a,2.1,1,2,1,1\n1,0.04,b,2.1,1,2,1,1\n"
+                      "2,0.08,a,2.1,x,2,1,1\n");
+  TrackedFrame frame;
+  ASSERT_TRUE(reader.next(frame));
+  EXPECT_EQ(frame.markers.size(), 2u);
+  ASSERT_TRUE(reader.next(frame));
+  EXPECT_EQ(frame.frame, 1);
+  EXPECT_EQ(frame.markers.size(), 2u);
+  const std::string msg = error_of([&] { reader.next(frame); });
+  EXPECT_NE(msg.find("mem.csv:6:"), std::string::npos) << msg;
+  // A writer killed mid-row: the whole frames before the cut are all there.
+  TracksReader cut("cut.csv",
+                   "frame,time_s,marker,fp,x,y,valid,quality\n0,0,a,2.1,1,2,1,1\n1,0.04,a,2.");
+  ASSERT_TRUE(cut.next(frame));
+  EXPECT_EQ(frame.frame, 0);
+  EXPECT_NE(error_of([&] { cut.next(frame); }).find("cut.csv:3:"), std::string::npos);
+}
 
 TEST(TracksCsv, BadHeaderNamesLineOne) {
   auto p = write_text("header.csv", "frame,time,marker\n0,0,a\n");
