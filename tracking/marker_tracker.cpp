@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <opencv2/calib3d.hpp>
@@ -9,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <optional>
+#include <type_traits>
 
 #include "facecore/named_options.hpp"
 #include "facecore/option_check.hpp"
@@ -265,14 +267,36 @@ struct MarkerTracker::Impl {
     out.build(gray(r), {lk_window(), lk_window()}, options.lk_levels);
   }
 
+  // Runs one named step, recording its time in step_times.
+  std::vector<StepTime> step_times;
+  template <typename Step>
+  auto timed(const char* name, Step&& step) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto record = [&] {
+      step_times.push_back(
+          {name, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                     .count()});
+    };
+    if constexpr (std::is_void_v<decltype(step())>) {
+      step();
+      record();
+    } else {
+      auto result = step();
+      record();
+      return result;
+    }
+  }
+
   // ---- start of the take ---------------------------------------------------------------
 
   void start() {
     ensure_gray({0, 0, gray.cols, gray.rows});
-    std::vector<TagDetection> tags =
-        layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
-    const std::vector<std::pair<cv::Point2d, cv::Point2d>> known =
-        start_positions.empty() ? identify(tags) : find_at_start_positions(tags);
+    std::vector<TagDetection> tags = timed("detect_tags", [&] {
+      return layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
+    });
+    const std::vector<std::pair<cv::Point2d, cv::Point2d>> known = timed("identify", [&] {
+      return start_positions.empty() ? identify(tags) : find_at_start_positions(tags);
+    });
     if (static_cast<int>(known.size()) < std::max(3, options.min_identified)) {
       for (MarkerState& s : states) s.valid = false, s.lost_reason = LostReason::Unidentified;
       return;
@@ -523,14 +547,14 @@ struct MarkerTracker::Impl {
   };
 
   void follow() {
-    Flow flow = lk_round_trip();
-    const TagGuesses tags = tag_corner_guesses(flow);
-    snap_dots(flow);
-    follow_tags(flow, tags);
-    drop_jumped(flow);
-    drop_coincident();
-    drop_off_lid_band();
-    reacquire_lost(flow);
+    Flow flow = timed("lk_round_trip", [&] { return lk_round_trip(); });
+    const TagGuesses tags = timed("tag_corner_guesses", [&] { return tag_corner_guesses(flow); });
+    timed("snap_dots", [&] { snap_dots(flow); });
+    timed("follow_tags", [&] { follow_tags(flow, tags); });
+    timed("drop_jumped", [&] { drop_jumped(flow); });
+    timed("drop_coincident", [&] { drop_coincident(); });
+    timed("drop_off_lid_band", [&] { drop_off_lid_band(); });
+    timed("reacquire_lost", [&] { reacquire_lost(flow); });
   }
 
   // 1. LK on the valid dots and the valid tags' corners, forward and back.
@@ -1018,13 +1042,16 @@ void MarkerTracker::set_start_positions(const std::map<std::string, cv::Point2d>
 
 TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_s) {
   Impl& m = *impl_;
+  m.step_times.clear();
   m.to_gray(image);
   if (m.started) {
     // LK needs this frame's pyramid the size of the previous one: it moves with the markers.
-    const cv::Rect need = m.needed_region();
-    m.region = m.placed(m.previous_region.size(), need);
-    m.ensure_gray(m.region);
-    m.build_pyramid(m.region, m.pyramid);
+    m.timed("pyramid", [&] {
+      const cv::Rect need = m.needed_region();
+      m.region = m.placed(m.previous_region.size(), need);
+      m.ensure_gray(m.region);
+      m.build_pyramid(m.region, m.pyramid);
+    });
     m.follow();
     bool any =
         std::any_of(m.states.begin(), m.states.end(), [](const MarkerState& s) { return s.valid; });
@@ -1188,6 +1215,9 @@ const std::vector<MarkerState>& MarkerTracker::states() const {
 }
 const MarkerLayout& MarkerTracker::layout() const {
   return impl_->layout;
+}
+const std::vector<StepTime>& MarkerTracker::step_times() const {
+  return impl_->step_times;
 }
 void MarkerTracker::draw(cv::Mat& image, long frame) const {
   draw_overlay(image, impl_->states, frame);

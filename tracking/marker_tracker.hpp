@@ -126,6 +126,12 @@ struct MarkerState {
   int lost_frames = 0;  // frames since it was last valid
 };
 
+// How long one named step of a track() call took (wall time).
+struct StepTime {
+  const char* step;  // "pyramid", "lk_round_trip", "snap_dots", ... (marker_tracker.cpp)
+  double ms = 0;
+};
+
 class MarkerTracker : public FaceTracker {
  public:
   MarkerTracker(MarkerLayout layout, TrackerOptions options = {});
@@ -141,6 +147,11 @@ class MarkerTracker : public FaceTracker {
   const std::vector<MarkerState>& states() const;
   const MarkerLayout& layout() const override;
   void draw(cv::Mat& image, long frame) const override;  // tracking/overlay.hpp
+  // The named steps of the last track() call in the order they ran, each with its time: on a
+  // followed frame the pyramid, the LK round trip, the snap, the tags, the drop rules and the
+  // re-acquisition; on a first frame the tag detection and the identification. bench_tracking
+  // reports them one by one.
+  const std::vector<StepTime>& step_times() const;
 
  private:
   struct Impl;

@@ -9,6 +9,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <string>
 
 #include "tests/support/synthetic_scene.hpp"
 #include "tracking/apriltag_detector.hpp"
@@ -55,13 +56,19 @@ void BM_TrackFrame(benchmark::State& state) {
   tracker.track(f[0], 0, 0);
   size_t k = 1;
   long valid = 0, seen = 0;
+  std::map<std::string, double> step_ms;  // each named step's time, summed
   for (auto _ : state) {
     TrackedFrame t = tracker.track(f[k], static_cast<long>(k), 0);
     for (const auto& m : t.markers) valid += m.valid, ++seen;
+    for (const StepTime& s : tracker.step_times()) step_ms[s.step] += s.ms;
     if (++k == f.size()) k = 1;
   }
   state.counters["valid_fraction"] =
       seen ? static_cast<double>(valid) / static_cast<double>(seen) : 0;
+  // Milliseconds a frame in each step (the steps' sum is below the whole: grey conversion,
+  // region bookkeeping and the result's assembly are in no step).
+  for (const auto& [step, ms] : step_ms)
+    state.counters[step + "_ms"] = benchmark::Counter(ms, benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_TrackFrame)->Unit(benchmark::kMillisecond);
 
