@@ -46,7 +46,7 @@ SuiteScenario parse_scenario(const json& j, const json& defaults, const std::str
   static const std::set<std::string> known = {
       "name",  "title", "fps",         "seconds",       "seed",         "fap",
       "yaw",   "pitch", "roll",        "motion_period", "distance_amp", "brightness",
-      "light", "noise", "motion_blur", "occluder"};
+      "light", "noise", "motion_blur", "occluder",      "neutral_lead"};
   if (!j.is_object()) throw InputError(where + ": a scenario should be an object");
   for (const auto& [key, value] : j.items())
     if (!known.count(key)) throw InputError(where + ": unknown key '" + key + "'");
@@ -66,6 +66,9 @@ SuiteScenario parse_scenario(const json& j, const json& defaults, const std::str
   if (!(s.fps > 0) || !(s.seconds > 0))
     throw InputError(where + " (" + s.name + "): fps and seconds should be positive");
   if (j.contains("fap")) s.fap = data_file(j["fap"].get<std::string>());
+  s.neutral_lead = num("neutral_lead", 0);
+  if (!(s.neutral_lead >= 0))
+    throw InputError(where + " (" + s.name + "): neutral_lead should not be negative");
   SynthOptions& o = s.synth;
   if (defaults.contains("size")) {
     o.width = defaults["size"].at(0).get<int>();
@@ -113,6 +116,7 @@ SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
   const auto keep = static_cast<std::size_t>(std::lround(s.seconds * drive.header.fps));
   if (keep < drive.frames.size()) drive.frames.resize(keep);
   drive.header.frame_count = static_cast<long>(drive.frames.size());
+  if (s.neutral_lead > 0) prepend_neutral(drive, s.neutral_lead);
 
   SynthOptions o = s.synth;
   o.dot_diameter_mm = layout.dot_diameter_mm;

@@ -10,7 +10,8 @@
 //                      "motion_period": 4 }, ... ] }
 // Scenario keys (each optional): fps, seconds, seed, fap (a path relative to the data
 // folder), yaw, pitch, roll, motion_period, distance_amp, brightness, light, noise,
-// motion_blur, occluder (true/false), as the `rostro synth` options of the same names.
+// motion_blur, occluder (true/false), neutral_lead (seconds of neutral face before the drive,
+// where the tracker can identify the markers), as the `rostro synth` options of the same names.
 
 #include <array>
 #include <filesystem>
@@ -28,6 +29,7 @@ struct SuiteScenario {
   std::string name, title;
   std::filesystem::path fap;  // empty: the built-in range of motion
   double fps = 25, seconds = 4;
+  double neutral_lead = 0;  // seconds of neutral face before the drive (not in `seconds`)
   SynthOptions synth;
 };
 
