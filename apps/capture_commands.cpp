@@ -74,6 +74,10 @@ class TrackedInput {
   const tracking::MarkerLayout& layout() const { return tracker_ ? tracker_->layout() : layout_; }
   // False while a tracker has not found the face yet (markers identified, a face detected).
   bool face_found() const { return !tracker_ || tracker_->started(); }
+  // identification_report() of the tracker ("" for tracks from a CSV).
+  std::string identification() const {
+    return tracker_ ? identification_report(*tracker_, fps()) : std::string();
+  }
   bool has_images() const { return source_ != nullptr; }
   cv::Size size() const { return size_; }
   double fps() const { return fps_ > 0 ? fps_ : 25.0; }
@@ -222,8 +226,8 @@ void run_capture(const CaptureArgs& a) {
   }
   if (!input.face_found() && !interrupt.requested() && !failure)
     throw InputError(a.source +
-                     (a.face.markerless ? ": no face found in any frame"
-                                        : ": the markers were never identified") +
+                     (a.face.markerless ? std::string(": no face found in any frame")
+                                        : ": the markers were " + input.identification()) +
                      "; nothing written");
   // A stopped or broken take with nothing held back (queued, in the fit, or waiting for the
   // calibration) has nothing left to calibrate or map.
@@ -259,6 +263,8 @@ void run_capture(const CaptureArgs& a) {
   std::printf(
       "%s: %ld frames%s\n", a.output.c_str(), sink->frames_written(),
       interrupt.requested() ? (" (stopped by " + interrupt.signal_name() + ")").c_str() : "");
+  if (const std::string identified = input.identification(); !identified.empty())
+    std::printf("%s\n", identified.c_str());
 }
 
 }  // namespace

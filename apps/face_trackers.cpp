@@ -1,5 +1,7 @@
 #include "apps/face_trackers.hpp"
 
+#include <fmt/format.h>
+
 #include <filesystem>
 
 #include "calib/actor_prior.hpp"
@@ -43,6 +45,18 @@ std::unique_ptr<tracking::FaceTracker> FaceTrackerArgs::make(
     return std::make_unique<tracking::LandmarkTracker>(tracking::default_ibug_mapping(),
                                                        calib::load_actor_prior().points, landmarks);
   return std::make_unique<tracking::MarkerTracker>(make_layout(), marker_options);
+}
+
+std::string identification_report(const tracking::FaceTracker& tracker, double fps) {
+  const auto* markers = dynamic_cast<const tracking::MarkerTracker*>(&tracker);
+  if (markers == nullptr || markers->identification().dots == 0) return {};
+  const tracking::IdentificationConfidence& c = markers->identification();
+  if (markers->started_at() >= 0)
+    return fmt::format("identified on frame {} ({:.2f} s): {}", markers->started_at(),
+                       static_cast<double>(markers->started_at()) / (fps > 0 ? fps : 25),
+                       tracking::describe(c));
+  return fmt::format("never identified with confidence (last tried: {}: {})", tracking::describe(c),
+                     c.doubt);
 }
 
 tracking::MarkerLayout FaceTrackerArgs::make_layout() const {

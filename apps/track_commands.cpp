@@ -103,6 +103,10 @@ void run_track(const TrackArgs& args) {
     const tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
     writer.write(tracked);
     if (!tracker->started()) ++never_started;
+    // The identification is reported at the end; a check during the take that dropped a
+    // dot named otherwise, as it happens.
+    if (!tracked.identification.empty() && tracked.identification.starts_with("identities"))
+      std::fprintf(stderr, "rostro track: frame %ld: %s\n", frame, tracked.identification.c_str());
     for (const auto& m : tracked.markers) valid_sum += m.valid, ++marker_sum;
     if (overlay.isOpened()) {
       cv::Mat image = f->image.clone();
@@ -118,6 +122,15 @@ void run_track(const TrackArgs& args) {
     throw InputError(args.source + ": no frames to track");
   }
   // A bare face that never shows gives no tracks at all: nothing is written.
+  const double fps = source->nominal_fps() > 0 ? source->nominal_fps() : 25;
+  const std::string identified = identification_report(*tracker, fps);
+  // Markers never identified with confidence give no tracks either: a take named wrongly
+  // from its first frame is worse than none.
+  if (!args.face.markerless && never_started == frame && !interrupt.requested())
+    throw InputError(
+        args.source + ": the markers were " +
+        (identified.empty() ? std::string("not found at the starting positions") : identified) +
+        "; nothing written (give their positions with --start)");
   if (args.face.markerless && never_started == frame && !interrupt.requested())
     throw InputError(args.source + ": no face found in any of its " + std::to_string(frame) +
                      " frames (faces narrower than " +
@@ -139,11 +152,12 @@ void run_track(const TrackArgs& args) {
       static_cast<long>(layout.markers.size()),
       marker_sum ? 100.0 * static_cast<double>(valid_sum) / static_cast<double>(marker_sum) : 0.0,
       static_cast<long>(stats.dropped));
-  if (never_started == frame && !args.face.markerless)
-    std::fprintf(stderr,
-                 "rostro: warning: the markers were never identified (fewer than %d found); "
-                 "check --layout, the dot size options or give --start\n",
-                 args.options.min_identified);
+  if (!identified.empty()) {
+    std::printf("%s\n", identified.c_str());
+    if (never_started > 0 && never_started < frame)
+      std::printf("the %ld frames before it are written with every marker invalid\n",
+                  never_started);
+  }
 }
 
 }  // namespace
@@ -188,9 +202,13 @@ void add_track_commands(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->footer(
       "Markers: the take should start with the face frontal and every marker visible: they are\n"
-      "identified on the first frames with no clicks (tags first, then the dots by the layout's\n"
-      "geometry). Markers that are hidden or fail the checks are written with valid=0 and come\n"
-      "back with their own identity when they reappear.\n"
+      "identified with no clicks (tags first, then the dots by the layout's geometry) on the\n"
+      "first frame that identifies them with confidence (tags read and agreeing, most dots where\n"
+      "the layout puts them, no rival naming); the frames before it are written invalid, and a\n"
+      "take with no such frame is an error (give --start). The identification is printed and\n"
+      "kept in the CSV as a '# identification:' comment. Markers that are hidden or fail the\n"
+      "checks are written with valid=0 and come back with their own identity when they\n"
+      "reappear.\n"
       "--markerless: the largest face (or --face N) is found by dlib's face detector and its 68\n"
       "landmarks are written under their MPEG-4 feature points; frames without a face are\n"
       "written invalid, and a clip with no face at all is an error.\n\n"

@@ -1,12 +1,16 @@
 #include "tracking/identify.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <opencv2/calib3d.hpp>
 
 #include "facecore/error.hpp"
+#include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
 #include "tracking/tracks_csv.hpp"
 
@@ -82,28 +86,86 @@ cv::Point2d Identification::project(cv::Point2d frontal_mm) const {
   return apply(layout_to_image, frontal_mm);
 }
 
+void IdentificationOptions::validate() const {
+  OptionCheck("IdentificationOptions")
+      .positive("gate", gate)
+      .at_least("size_factor", size_factor, 1)
+      .within("min_explained", min_explained, 0, 1)
+      .positive("max_residual", max_residual)
+      .within("min_margin", min_margin, 0, 1)
+      .not_negative("min_tags", min_tags)
+      .positive("max_tag_error", max_tag_error);
+}
+
+std::string describe(const IdentificationConfidence& c) {
+  std::string out = fmt::format("{}/{} dots, residual {:.2f}, margin {:.2f}", c.matched, c.dots,
+                                c.residual, c.margin);
+  if (c.tags > 0)
+    out += fmt::format(", tags {}/{} read, {} agree", c.tags_seen, c.tags, c.tags_agreeing);
+  return out;
+}
+
 Identification identify_markers(const MarkerLayout& layout, const std::vector<Dot>& dots,
-                                const std::vector<TagDetection>& tags, double gate) {
+                                const std::vector<TagDetection>& tags,
+                                const IdentificationOptions& options) {
   Identification id;
+  const double gate = options.gate;
 
   // Tags identify themselves; their corners give the first layout -> image mapping.
   std::vector<cv::Point2d> from, to;
+  struct SeenTag {
+    std::array<cv::Point2d, 4> frontal, image;
+  };
+  std::vector<SeenTag> seen_tags;
   for (const MarkerSpec& m : layout.markers) {
     if (!m.is_tag()) continue;
+    ++id.confidence.tags;
     for (const TagDetection& t : tags) {
       if (t.family != m.family || t.id != m.tag_id) continue;
       id.tags[m.id] = t;
       auto corners = m.tag_corners_frontal();
-      for (int k = 0; k < 4; ++k) from.push_back(corners[k]), to.push_back(t.corners[k]);
+      SeenTag seen;
+      for (int k = 0; k < 4; ++k) {
+        from.push_back(corners[k]), to.push_back(t.corners[k]);
+        seen.frontal[k] = corners[k], seen.image[k] = t.corners[k];
+      }
+      seen_tags.push_back(seen);
       break;
     }
   }
+  id.confidence.tags_seen = static_cast<int>(seen_tags.size());
   std::vector<const MarkerSpec*> layout_dots;
   std::vector<cv::Point2d> layout_points;
   for (const MarkerSpec& m : layout.markers)
     if (!m.is_tag()) layout_dots.push_back(&m), layout_points.push_back(m.frontal());
+  id.confidence.dots = static_cast<int>(layout_dots.size());
 
-  if (layout_dots.empty() && from.empty()) return id;
+  auto judge = [&] {
+    IdentificationConfidence& c = id.confidence;
+    const int tags_needed = std::min(options.min_tags, c.tags);
+    const double explained = c.dots > 0 ? static_cast<double>(c.matched) / c.dots : 1.0;
+    if (!id.mapped)
+      c.doubt = "nothing could be placed";
+    else if (c.tags_seen < tags_needed)
+      c.doubt = fmt::format("{} of {} tags read", c.tags_seen, c.tags);
+    else if (c.tags_agreeing < c.tags_seen)
+      c.doubt = fmt::format("{} of {} tags read disagree with the dots",
+                            c.tags_seen - c.tags_agreeing, c.tags_seen);
+    else if (explained < options.min_explained)
+      c.doubt = fmt::format("{} of {} dots found where the layout puts them", c.matched, c.dots);
+    else if (c.residual > options.max_residual)
+      c.doubt =
+          fmt::format("the dots lie {:.2f} spacings from the layout's arrangement", c.residual);
+    else if (c.margin < options.min_margin)
+      c.doubt = fmt::format("another assignment explains the dots nearly as well (margin {:.2f})",
+                            c.margin);
+    c.confident = c.doubt.empty();
+  };
+
+  if (layout_dots.empty() && from.empty()) {
+    judge();
+    return id;
+  }
 
   // Each layout dot may take a detection within `gate` of its nearest neighbour's distance.
   std::vector<double> spacing(layout_dots.size(), std::numeric_limits<double>::max());
@@ -112,11 +174,43 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       if (i != j) spacing[i] = std::min(spacing[i], cv::norm(layout_points[i] - layout_points[j]));
   const double closest = spacing.empty() ? 1.0 : *std::min_element(spacing.begin(), spacing.end());
 
+  auto scale_of = [](const cv::Matx23d& m) {
+    return std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
+  };
+  // Detections of the dots' common size, judged against the median of `match`'s (all while
+  // nothing is matched).
+  auto sized_like = [&](const std::vector<int>& match) {
+    std::vector<double> d;
+    for (int k : match)
+      if (k >= 0) d.push_back(dots[static_cast<size_t>(k)].diameter);
+    std::vector<bool> ok(dots.size(), true);
+    if (d.size() < 3) return ok;
+    std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
+    const double median = d[d.size() / 2];
+    for (size_t k = 0; k < dots.size(); ++k)
+      ok[k] = dots[k].diameter <= median * options.size_factor &&
+              dots[k].diameter >= median / options.size_factor;
+    return ok;
+  };
+  // How many of the tags read lie where `mapping` puts them (their centres: a side tag on a
+  // curved headband turns away, and its corners with it, while its centre stays near the
+  // frontal arrangement's place).
+  auto tags_agreeing = [&](const cv::Matx23d& mapping) {
+    int agreeing = 0;
+    for (const SeenTag& t : seen_tags) {
+      const double side = cv::norm(t.image[0] - t.image[1]);
+      cv::Point2d predicted(0, 0), seen(0, 0);
+      for (int k = 0; k < 4; ++k) predicted += apply(mapping, t.frontal[k]), seen += t.image[k];
+      agreeing += cv::norm(predicted - seen) / 4 <= options.max_tag_error * side;
+    }
+    return agreeing;
+  };
+
   struct Attempt {
     cv::Matx23d mapping;
     std::vector<int> match;
     int matched = 0;
-    double residual = 0;
+    double score = 0;  // matched dots, each weighed down by its distance: 1 at its place
   };
   // Match by proximity, refit an affine from the matches (and tag corners), a few rounds.
   auto settle = [&](cv::Matx23d mapping) {
@@ -124,8 +218,8 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     at.mapping = mapping;
     at.match.assign(layout_dots.size(), -1);
     for (int round = 0; round < 5; ++round) {
-      const double scale = std::sqrt(
-          std::abs(at.mapping(0, 0) * at.mapping(1, 1) - at.mapping(0, 1) * at.mapping(1, 0)));
+      const double scale = scale_of(at.mapping);
+      const std::vector<bool> usable = sized_like(at.match);
       struct Pair {
         double distance;
         size_t layout;
@@ -137,7 +231,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
         const double limit = gate * spacing[i] * scale;
         for (size_t k = 0; k < dots.size(); ++k) {
           const double d = cv::norm(dots[k].center - p);
-          if (d < limit) pairs.push_back({d, i, k});
+          if (d < limit && usable[k]) pairs.push_back({d, i, k});
         }
       }
       std::sort(pairs.begin(), pairs.end(),
@@ -145,13 +239,14 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       std::fill(at.match.begin(), at.match.end(), -1);
       std::vector<bool> taken(dots.size(), false);
       at.matched = 0;
-      at.residual = 0;
+      at.score = 0;
       for (const Pair& p : pairs) {
         if (at.match[p.layout] >= 0 || taken[p.dot]) continue;
         at.match[p.layout] = static_cast<int>(p.dot);
         taken[p.dot] = true;
         ++at.matched;
-        at.residual += p.distance / (spacing[p.layout] * scale);
+        const double r = p.distance / (gate * spacing[p.layout] * scale);
+        at.score += 1 - r * r;
       }
       // An affine absorbs the face's own proportions and a slight turn.
       std::vector<cv::Point2d> f = from, t = to;
@@ -168,14 +263,16 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
 
   // Starting guesses: the tags' similarity (when there are tags) and the dot cloud's centre
   // and spread at a range of head rolls. The tags sit on the forehead, so a nod or a turn
-  // mispredicts the lower face by a whole dot spacing from them alone; the settled attempt
-  // matching the most dots, most closely, wins (tag corners stay in every refit).
-  Attempt best;
-  best.matched = -1;
+  // mispredicts the lower face by a whole dot spacing from them alone; each guess is settled,
+  // and those the tags read disagree with are dropped (a shifted arrangement can match as many
+  // blobs on a real face). The best-scoring settled attempt wins; the best one that names the
+  // dots otherwise is its rival, and the margin between the two is part of the confidence.
+  std::vector<Attempt> attempts;
   auto consider = [&](const cv::Matx23d& start) {
     Attempt at = settle(start);
-    if (at.matched > best.matched || (at.matched == best.matched && at.residual < best.residual))
-      best = at;
+    if (!seen_tags.empty() && 2 * tags_agreeing(at.mapping) < static_cast<int>(seen_tags.size()))
+      return;
+    attempts.push_back(std::move(at));
   };
   if (!from.empty()) {
     cv::Mat s = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
@@ -198,7 +295,29 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       consider(cv::Matx23d(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2)));
     }
   }
-  if (best.matched < 0) return id;
+  if (attempts.empty()) {
+    judge();
+    return id;
+  }
+  const auto best_it =
+      std::max_element(attempts.begin(), attempts.end(),
+                       [](const Attempt& x, const Attempt& y) { return x.score < y.score; });
+  Attempt best = *best_it;
+  // Two attempts name the dots alike when most of the dots either matches get the same
+  // detection from both.
+  auto alike = [&](const Attempt& x) {
+    int same = 0, either = 0;
+    for (size_t i = 0; i < best.match.size(); ++i) {
+      if (best.match[i] < 0 && x.match[i] < 0) continue;
+      ++either;
+      same += best.match[i] == x.match[i];
+    }
+    return either == 0 || same >= 0.8 * either;
+  };
+  double rival = 0;
+  for (const Attempt& at : attempts)
+    if (!alike(at)) rival = std::max(rival, at.score);
+  id.confidence.margin = best.score > 0 ? std::clamp(1 - rival / best.score, 0.0, 1.0) : 0;
 
   // A real face is not the layout's frontal plane: where it curves away (the cheekbones, the
   // chin under a nod) a dot can lie most of a spacing from where the fit puts it, nearer a
@@ -210,7 +329,8 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
   // way then each keep their own detection.
   {
     const cv::Matx23d& m = best.mapping;
-    const double scale = std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
+    const double scale = scale_of(m);
+    const std::vector<bool> usable = sized_like(best.match);
     const size_t n = layout_dots.size(), k_count = dots.size();
     std::vector<double> limit(n);
     std::vector<std::vector<double>> cost(n, std::vector<double>(k_count + n, kNoPair));
@@ -219,21 +339,31 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       limit[i] = 0.8 * spacing[i] * scale;
       for (size_t k = 0; k < k_count; ++k) {
         const double d = cv::norm(dots[k].center - p);
-        if (d < limit[i]) cost[i][k] = d * d;
+        if (d < limit[i] && usable[k]) cost[i][k] = d * d;
       }
       cost[i][k_count + i] = limit[i] * limit[i];  // left unmatched
     }
     const std::vector<int> assigned = min_cost_assignment(cost);
-    for (size_t i = 0; i < n; ++i)
-      best.match[i] = assigned[i] >= 0 && assigned[i] < static_cast<int>(k_count) &&
-                              cost[i][static_cast<size_t>(assigned[i])] < kNoPair
-                          ? assigned[i]
-                          : -1;
+    double squares = 0;
+    int matched = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const bool found = assigned[i] >= 0 && assigned[i] < static_cast<int>(k_count) &&
+                         cost[i][static_cast<size_t>(assigned[i])] < kNoPair;
+      best.match[i] = found ? assigned[i] : -1;
+      if (!found) continue;
+      ++matched;
+      const double r = std::sqrt(cost[i][static_cast<size_t>(assigned[i])]) / (spacing[i] * scale);
+      squares += r * r;
+    }
+    id.confidence.matched = matched;
+    id.confidence.residual = matched > 0 ? std::sqrt(squares / matched) : 0;
   }
   id.layout_to_image = best.mapping;
   id.mapped = true;
+  id.confidence.tags_agreeing = tags_agreeing(best.mapping);
   for (size_t i = 0; i < best.match.size(); ++i)
     if (best.match[i] >= 0) id.dots[layout_dots[i]->id] = dots[best.match[i]];
+  judge();
   return id;
 }
 

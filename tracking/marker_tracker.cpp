@@ -88,6 +88,9 @@ struct MarkerTracker::Impl {
   std::vector<double> spacing;  // nearest other marker at the start, pixels
   std::map<std::string, cv::Point2d> start_positions;
   bool started = false;
+  long started_at = -1;
+  IdentificationConfidence identification;
+  std::string note;      // this frame's TrackedFrame::identification
   cv::Mat gray;          // this frame; a view of the caller's image when it is grey already
   cv::Mat gray_storage;  // conversion buffer for colour input, reused frame to frame
   // The LK pyramids cover only the region the markers occupy (plus room for motion), not the
@@ -297,7 +300,8 @@ struct MarkerTracker::Impl {
     const std::vector<std::pair<cv::Point2d, cv::Point2d>> known = timed("identify", [&] {
       return start_positions.empty() ? identify(tags) : find_at_start_positions(tags);
     });
-    if (static_cast<int>(known.size()) < std::max(3, options.min_identified)) {
+    const bool doubtful = start_positions.empty() && !identification.confident;
+    if (doubtful || static_cast<int>(known.size()) < std::max(3, options.min_identified)) {
       for (MarkerState& s : states) s.valid = false, s.lost_reason = LostReason::Unidentified;
       return;
     }
@@ -333,7 +337,8 @@ struct MarkerTracker::Impl {
   std::vector<std::pair<cv::Point2d, cv::Point2d>> identify(const std::vector<TagDetection>& tags) {
     std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
     auto dots = detect_dots(gray, centroid_dots);
-    Identification id = identify_markers(layout, dots, tags);
+    Identification id = identify_markers(layout, dots, tags, options.identification);
+    identification = id.confidence;
     for (MarkerState& s : states) {
       s.valid = false;
       if (s.spec->is_tag()) {
@@ -555,6 +560,66 @@ struct MarkerTracker::Impl {
     timed("drop_coincident", [&] { drop_coincident(); });
     timed("drop_off_lid_band", [&] { drop_off_lid_band(); });
     timed("reacquire_lost", [&] { reacquire_lost(flow); });
+  }
+
+  // 5. The followed dots named again from their places and the tags read
+  //    (TrackerOptions::identity_check_every). The naming is trusted only when confident (a
+  //    face near its neutral arrangement); a dot it calls otherwise is dropped rather than
+  //    renamed, so a false alarm costs a frame or two of one dot, and re-acquisition (4.)
+  //    brings the right one back under its own name.
+  void check_identities() {
+    std::vector<Dot> places;
+    std::vector<size_t> owner;
+    std::vector<TagDetection> tags;
+    for (size_t i = 0; i < states.size(); ++i) {
+      const MarkerState& s = states[i];
+      if (!s.valid) continue;
+      if (s.spec->is_tag()) {
+        TagDetection t;
+        t.family = s.spec->family, t.id = s.spec->tag_id;
+        t.corners = s.corners, t.center = s.position;
+        tags.push_back(t);
+      } else {
+        Dot d;
+        d.center = s.position, d.diameter = reference_diameter[i];
+        places.push_back(d), owner.push_back(i);
+      }
+    }
+    if (tags.empty()) return;
+    const Identification id = identify_markers(layout, places, tags, options.identification);
+    if (!id.confidence.confident) return;
+    // Each followed dot's name in the naming; a dot it leaves out is no evidence.
+    std::map<std::string, std::string> called;
+    for (size_t k = 0; k < places.size(); ++k)
+      for (const auto& [name, dot] : id.dots)
+        if (dot.center == places[k].center) called[states[owner[k]].spec->id] = name;
+    // A dot followed onto another's place leaves that one lost, or the two trade places; a
+    // chain of dots each at the next one's place, ending in one the naming leaves out, is the
+    // lower face stretched beyond the flat arrangement (the jaw dropped), not a wrong name.
+    auto valid_by_name = [&](const std::string& name) {
+      const MarkerSpec* spec = layout.find(name);
+      return spec != nullptr && states[static_cast<size_t>(spec - layout.markers.data())].valid;
+    };
+    std::vector<size_t> wrong;
+    for (size_t k = 0; k < places.size(); ++k) {
+      const std::string& own = states[owner[k]].spec->id;
+      const auto it = called.find(own);
+      if (it == called.end() || it->second == own) continue;
+      const auto back = called.find(it->second);
+      if (!valid_by_name(it->second) || (back != called.end() && back->second == own))
+        wrong.push_back(k);
+    }
+    std::vector<std::string> renamed;
+    for (size_t k : wrong) {
+      MarkerState& s = states[owner[k]];
+      s.valid = false;
+      s.lost_reason = LostReason::Identity;
+      renamed.push_back(s.spec->id + " (at " + called[s.spec->id] + "'s place)");
+    }
+    if (renamed.empty()) return;
+    note = "identities checked: dropped " + std::to_string(renamed.size()) + " dot" +
+           (renamed.size() > 1 ? "s" : "") + " named otherwise:";
+    for (const std::string& r : renamed) note += " " + r;
   }
 
   // 1. LK on the valid dots and the valid tags' corners, forward and back.
@@ -1053,6 +1118,10 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
       m.build_pyramid(m.region, m.pyramid);
     });
     m.follow();
+    const long followed = frame - m.started_at;
+    if (m.options.identity_check_every > 0 && followed % m.options.identity_check_every == 0 &&
+        m.start_positions.empty())
+      m.timed("check_identities", [&] { m.check_identities(); });
     bool any =
         std::any_of(m.states.begin(), m.states.end(), [](const MarkerState& s) { return s.valid; });
     if (!any) {
@@ -1068,6 +1137,9 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
   } else {
     m.start();
     if (m.started) {
+      m.started_at = frame;
+      m.note = m.start_positions.empty() ? "identified, " + describe(m.identification)
+                                         : "started from the starting positions";
       const cv::Rect need = m.needed_region();
       m.region = m.placed(m.grown(need), need);
       m.build_pyramid(m.region, m.pyramid);
@@ -1079,6 +1151,8 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
   TrackedFrame out;
   out.frame = frame;
   out.time_s = time_s;
+  out.identification = std::move(m.note);
+  m.note.clear();
   for (MarkerState& s : m.states) {
     if (s.valid) s.lost_reason = LostReason::None;
     s.lost_frames = s.valid ? 0 : s.lost_frames + 1;
@@ -1096,6 +1170,7 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
 
 void TrackerOptions::validate() const {
   dots.validate();
+  identification.validate();
   eyes.validate();
   brows.validate();
   lower_lip.validate();
@@ -1114,6 +1189,7 @@ void TrackerOptions::validate() const {
       .not_negative("max_relative_motion", max_relative_motion)
       .not_negative("max_relative_motion_px", max_relative_motion_px)
       .not_negative("min_identified", min_identified)
+      .not_negative("identity_check_every", identity_check_every)
       .not_negative("threads", threads);
 }
 
@@ -1166,6 +1242,14 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, brows.hold_merged_inner_brows),
       ROSTRO_NAMED_OPTION(O, brows.inner_brow_core_tolerance),
       ROSTRO_NAMED_OPTION(O, min_identified),
+      ROSTRO_NAMED_OPTION(O, identification.gate),
+      ROSTRO_NAMED_OPTION(O, identification.size_factor),
+      ROSTRO_NAMED_OPTION(O, identification.min_explained),
+      ROSTRO_NAMED_OPTION(O, identification.max_residual),
+      ROSTRO_NAMED_OPTION(O, identification.min_margin),
+      ROSTRO_NAMED_OPTION(O, identification.min_tags),
+      ROSTRO_NAMED_OPTION(O, identification.max_tag_error),
+      ROSTRO_NAMED_OPTION(O, identity_check_every),
       ROSTRO_NAMED_OPTION(O, threads),
   };
   set_named_option(options, table, "TrackerOptions", assignment);
@@ -1201,6 +1285,8 @@ const char* to_string(LostReason r) {
       return "coincident";
     case LostReason::LidBand:
       return "lid band";
+    case LostReason::Identity:
+      return "identity";
     case LostReason::TagLost:
       return "tag lost";
   }
@@ -1209,6 +1295,12 @@ const char* to_string(LostReason r) {
 
 bool MarkerTracker::started() const {
   return impl_->started;
+}
+const IdentificationConfidence& MarkerTracker::identification() const {
+  return impl_->identification;
+}
+long MarkerTracker::started_at() const {
+  return impl_->started_at;
 }
 const std::vector<MarkerState>& MarkerTracker::states() const {
   return impl_->states;

@@ -1,8 +1,10 @@
 #pragma once
 // Follows the layout's markers through a take, frame by frame.
 //
-// First frame: every dot and tag is detected and identified (identify.hpp), or the markers
-// start where a file of starting positions puts them. Then, per frame:
+// Start: every dot and tag is detected and identified (identify.hpp), frame after frame until
+// one identifies them with confidence (the frames before are written with every marker
+// invalid), or the markers start where a file of starting positions puts them. Then, per
+// frame:
 //  1. dots and tag corners move by pyramidal Lucas-Kanade from the previous frame, checked
 //     forward-backward. The pyramid covers only the region the markers occupy (plus room for
 //     a frame's motion) and its derivatives are computed only where LK reads them
@@ -24,7 +26,10 @@
 //     nearest first, and comes back with its own identity; it is never guessed while unseen. A lid
 //     dot is only accepted between its eye's corner line and not far beyond its start distance from
 //     it. The lower lip's dots are looked for together, below the upper lip, and found again
-//     only where their shape fits (LowerLipOptions::together).
+//     only where their shape fits (LowerLipOptions::together);
+//  5. every few frames with the tags read, the dots are named again from where they are
+//     (TrackerOptions::identity_check_every): a dot followed onto another's place, or
+//     named wrongly from the start, is dropped and looked for again under its own name.
 
 #include <map>
 #include <memory>
@@ -35,6 +40,7 @@
 #include "tracking/apriltag_detector.hpp"
 #include "tracking/dot_detector.hpp"
 #include "tracking/face_tracker.hpp"
+#include "tracking/identify.hpp"
 #include "tracking/ink_core.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/lid_geometry.hpp"
@@ -76,6 +82,13 @@ struct TrackerOptions {
   BrowOptions brows;
   LowerLipOptions lower_lip;
   int min_identified = 3;  // markers needed to start tracking
+  // When an identification is confident enough to start on (identify.hpp).
+  IdentificationOptions identification;
+  // Every this many frames, with the tags read, the followed dots are named again from their
+  // places and the tags (identify.hpp); a dot a confident naming calls otherwise is dropped
+  // (LostReason::Identity) and looked for again under its own name, and the frame reports
+  // it. 0: never.
+  int identity_check_every = 10;
   // Threads the followed dots' centres are measured on each frame (0: the machine's cores;
   // OpenCV's cv::setNumThreads caps them). Any count gives the same tracks: each dot is
   // measured on its own, then all are judged and applied in layout order.
@@ -109,6 +122,7 @@ enum class LostReason {
   Jump,           // moved unlike its neighbours (max_relative_motion, max_relative_motion_px)
   Coincident,     // on the spot of another dot (both are dropped)
   LidBand,        // a lid dot off its band (lid_overshoot_fraction, lid_reach)
+  Identity,       // named otherwise by a confident identification during the take
   TagLost,        // a tag not detected again near where LK moved its corners
 };
 inline constexpr int kLostReasonCount = static_cast<int>(LostReason::TagLost) + 1;
@@ -144,6 +158,12 @@ class MarkerTracker : public FaceTracker {
   TrackedFrame track(const cv::Mat& image, long frame, double time_s) override;
 
   bool started() const override;
+  // The identification tracking started from (confident) once started; before, the latest
+  // doubtful one, saying why (IdentificationConfidence::doubt). Empty (0 dots) with starting
+  // positions or before the first frame.
+  const IdentificationConfidence& identification() const;
+  // The frame tracking started on; -1 before.
+  long started_at() const;
   const std::vector<MarkerState>& states() const;
   const MarkerLayout& layout() const override;
   void draw(cv::Mat& image, long frame) const override;  // tracking/overlay.hpp

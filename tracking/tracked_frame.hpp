@@ -29,6 +29,9 @@ struct TrackedFrame {
   double time_s = 0;
   std::vector<MarkerObservation> markers;
   std::optional<HeadPose> head_pose;
+  // On the frame where the markers were identified, or their identities corrected: how and
+  // how surely, in words (tracking/identify.hpp's describe()); empty elsewhere.
+  std::string identification;
 };
 
 }  // namespace rostro::tracking

@@ -15,6 +15,8 @@ namespace {
 
 constexpr std::string_view kHeader = "frame,time_s,marker,fp,x,y,valid,quality";
 constexpr int kColumns = 8;
+// A frame's TrackedFrame::identification, on a comment line before its rows.
+constexpr std::string_view kIdentification = "# identification: ";
 
 // Shortest text that reads back to the same double: ground truth survives a round trip.
 void append_number(std::string& out, double value) {
@@ -46,6 +48,11 @@ TracksWriter::TracksWriter(const std::filesystem::path& path) : file_(path) {
 
 void TracksWriter::write(const TrackedFrame& frame) {
   std::string rows;
+  if (!frame.identification.empty()) {
+    rows += kIdentification;
+    for (char c : frame.identification) rows += c == '\n' || c == '\r' ? ' ' : c;
+    rows += '\n';
+  }
   for (const MarkerObservation& m : frame.markers) {
     if (m.marker.empty() || m.marker.find_first_of(",\n\r\"") != std::string::npos)
       throw InputError(file_.destination().string() + ": frame " + std::to_string(frame.frame) +
@@ -102,8 +109,9 @@ struct TracksReader::State {
   long line_number = 0;
   bool have_pending = false;  // a row already read that starts the next frame
   long pending_line = 0;
-  TrackedFrame pending_frame;  // frame/time of the pending row
+  TrackedFrame pending_frame;  // frame/time (and identification) of the pending row
   MarkerObservation pending;
+  std::string note;  // the last identification comment, for the next row
   long last_frame = 0;
   bool any_frame = false;
   // A problem found past the end of a whole frame: reported on the next call, so that the
@@ -142,6 +150,10 @@ struct TracksReader::State {
       ++line_number;
       std::string_view line = trim(text);
       if (line.empty()) continue;
+      if (line.front() == '#') {  // a comment; an identification one belongs to the next row
+        if (line.starts_with(kIdentification)) note = line.substr(kIdentification.size());
+        continue;
+      }
       std::string_view fields[kColumns];
       int count = 0;
       size_t start = 0;
@@ -162,6 +174,8 @@ struct TracksReader::State {
       pending_frame.frame = integer(fields[0], line_number, "frame");
       if (pending_frame.frame < 0) fail(line_number, "frame numbers cannot be negative");
       pending_frame.time_s = number(fields[1], line_number, "time_s");
+      pending_frame.identification = std::move(note);
+      note.clear();
       pending = MarkerObservation{};
       pending.marker = std::string(trim(fields[2]));
       if (pending.marker.empty()) fail(line_number, "column 'marker' is empty");
@@ -229,6 +243,7 @@ bool TracksReader::next(TrackedFrame& frame) {
   frame = TrackedFrame{};
   frame.frame = s.pending_frame.frame;
   frame.time_s = s.pending_frame.time_s;
+  frame.identification = s.pending_frame.identification;
   if (s.any_frame && frame.frame <= s.last_frame)
     s.fail(s.pending_line, "frame " + std::to_string(frame.frame) + " comes after frame " +
                                std::to_string(s.last_frame) +

@@ -5,6 +5,9 @@
 // one row per marker per frame, rows of a frame together, frames in increasing order.
 // Details: `fp` is empty for a marker on no MPEG-4 point (a headband tag); `valid` is 0 or 1;
 // x and y may be empty on an invalid row; numbers are written in their shortest exact form.
+// Lines starting with '#' are comments; "# identification: TEXT" before a frame's rows is
+// that frame's TrackedFrame::identification (the markers were identified there, and how
+// surely). A CSV reader that skips comments (pandas: comment='#') reads the rows alone.
 
 #include <chrono>
 #include <filesystem>

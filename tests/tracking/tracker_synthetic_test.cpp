@@ -177,10 +177,15 @@ TEST(Tracker, EachLostReasonHasItsOwnName) {
   EXPECT_STREQ(to_string(LostReason::LidBand), "lid band");
 }
 
+// A layout of dots alone is identified by the dots' arrangement; one with tags waits for them
+// (IdentifiesOnlyWhenItsTagsAreRead).
 TEST(Tracker, IdentifiesWithoutTagsAndWhenTurned) {
-  MarkerLayout layout = default_layout();
+  const MarkerLayout with_tags = default_layout();
+  MarkerLayout dots_only = with_tags;
+  std::erase_if(dots_only.markers, [](const MarkerSpec& m) { return m.is_tag(); });
   for (bool tags : {true, false})
     for (double angle : {-12.0, 0.0, 15.0}) {
+      const MarkerLayout& layout = tags ? with_tags : dots_only;
       SceneOptions o;
       o.draw_tags = tags;
       o.angle_deg = angle;
@@ -197,6 +202,34 @@ TEST(Tracker, IdentifiesWithoutTagsAndWhenTurned) {
         }
       }
     }
+}
+
+// Without its tags a layout's dots alone can be named a row off (a real face's pupils and
+// nostrils fill the gaps): the tracker does not start, and says why.
+TEST(Tracker, IdentifiesOnlyWhenItsTagsAreRead) {
+  MarkerLayout layout = default_layout();
+  SceneOptions o;
+  o.draw_tags = false;
+  SyntheticScene scene(layout, o);
+  std::map<std::string, Truth> truth;
+  MarkerTracker tracker(layout, options_for(o));
+  const TrackedFrame tf = tracker.track(scene.render(0, truth), 0, 0);
+  EXPECT_FALSE(tracker.started());
+  for (const MarkerObservation& m : tf.markers) EXPECT_FALSE(m.valid) << m.marker;
+  EXPECT_FALSE(tracker.identification().confident);
+  EXPECT_EQ(tracker.identification().doubt, "0 of 3 tags read");
+  EXPECT_EQ(tracker.started_at(), -1);
+
+  // The same scene with its tags starts, and says so on its first frame.
+  o.draw_tags = true;
+  SyntheticScene tagged(layout, o);
+  MarkerTracker second(layout, options_for(o));
+  const TrackedFrame first = second.track(tagged.render(0, truth), 7, 0);
+  EXPECT_TRUE(second.started());
+  EXPECT_EQ(second.started_at(), 7);
+  EXPECT_TRUE(second.identification().confident);
+  EXPECT_EQ(second.identification().tags_seen, 3);
+  EXPECT_NE(first.identification.find("identified, "), std::string::npos) << first.identification;
 }
 
 TEST(Tracker, StartsFromAFileOfPositions) {

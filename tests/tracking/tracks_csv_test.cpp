@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -93,6 +94,27 @@ TEST(TracksCsv, RoundTripIsExact) {
       EXPECT_EQ(a.quality, b.quality);
     }
   }
+}
+
+// The identification rides along as a comment line before its frame's rows, which readers
+// that skip comments pass over.
+TEST(TracksCsv, IdentificationIsACommentBeforeItsFrame) {
+  auto frames = sample_frames();
+  ASSERT_GE(frames.size(), 2u);
+  frames[1].identification = "identified, 30/31 dots,\nresidual 0.2";
+  fs::path p = temp_path("identification.csv");
+  write_tracks(p, frames);
+  std::ifstream in(p);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\n# identification: identified, 30/31 dots, residual 0.2\n" +
+                      std::to_string(frames[1].frame) + ","),
+            std::string::npos)
+      << text;
+  auto back = read_tracks(p);
+  ASSERT_EQ(back.size(), frames.size());
+  EXPECT_EQ(back[0].identification, "");
+  EXPECT_EQ(back[1].identification, "identified, 30/31 dots, residual 0.2");
+  EXPECT_EQ(back[1].markers.size(), frames[1].markers.size());
 }
 
 TEST(TracksCsv, HeaderAndOneRowPerMarkerPerFrame) {
