@@ -16,6 +16,7 @@
 #include "apps/progress.hpp"
 #include "eval/closed_loop.hpp"
 #include "eval/eval_plots.hpp"
+#include "eval/photo_suite.hpp"
 #include "eval/report.hpp"
 #include "eval/suite.hpp"
 #include "eval/track_metrics.hpp"
@@ -253,6 +254,69 @@ void eval_suite(const SuiteArgs& a) {
   }
 }
 
+struct PhotosArgs {
+  std::string file, fixtures, layout, markdown, only;
+  std::vector<std::string> tracker_options;  // NAME=VALUE
+};
+
+void eval_photos(const PhotosArgs& a) {
+  require_extension(a.markdown, ".md", "--markdown");
+  const std::filesystem::path faces =
+      a.fixtures.empty() ? eval::default_faces_dir() : std::filesystem::path(a.fixtures);
+  if (std::error_code ec; !std::filesystem::is_directory(faces, ec))
+    throw InputError(
+        fmt::format("the face photographs folder {} is absent (../shared/fixtures/faces beside the "
+                    "repository, or $ROSTRO_SHARED/fixtures/faces; --fixtures DIR names another)",
+                    faces.string()));
+  const eval::PhotoSuiteDefinition scenes = eval::load_photo_scenes(
+      a.file.empty() ? eval::default_photo_scenes_path() : std::filesystem::path(a.file));
+  const auto chosen = chosen_scenarios(scenes.scenarios, a.only);
+  const tracking::TrackerOptions tracker = tracker_options(a.tracker_options);
+  const tracking::MarkerLayout layout = tracking::load_layout(
+      a.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(a.layout));
+
+  std::vector<eval::PhotoRow> rows;
+  InterruptScope interrupt;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    const auto& s = chosen[i];
+    Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
+                      std::lround(s.scene.seconds * s.scene.fps));
+    rows.push_back(eval::run_photo_scenario(
+        s, faces, layout,
+        [&](long done, long) {
+          interrupt.throw_if_requested();
+          progress.update(done);
+        },
+        tracker));
+    progress.finish();
+  }
+  std::vector<eval::SuiteRow> suite_rows;
+  for (const eval::PhotoRow& r : rows) suite_rows.push_back(r.suite);
+  std::fputs(eval::suite_table_text(suite_rows).c_str(), stdout);
+  std::printf("\n%s", eval::photo_table_text(rows).c_str());
+  std::printf("\nlost marker-frames by the rule that dropped them\n%s",
+              eval::loss_table_text(suite_rows).c_str());
+  if (!a.markdown.empty()) {
+    const std::string body = fmt::format(
+        "Written by `rostro eval photos --markdown`{} (rostro {}) on {}: the scenes of "
+        "data/eval/photo_scenes.json, real photographs of faces (../shared/fixtures/faces) with "
+        "the default layout painted on and moved by smooth warps (eval/photo_scene.hpp), "
+        "tracked with automatic identification.\n\n{}\nCentre errors of the dots and tags over "
+        "scored "
+        "observations (visible in the truth, valid in the estimate); hidden but reported: "
+        "valid in the estimate while not visible in the truth; reacquire: the most frames a "
+        "marker took, back in view after an occlusion, to be reported within 2 px (- no "
+        "occlusion, never: not before the take ended or it was hidden again).\n\n{}\nLost "
+        "marker-frames by the rule that dropped them (tracking::LostReason):\n\n{}",
+        options_note(a.tracker_options, {}), ROSTRO_VERSION,
+        fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        eval::suite_table_markdown(suite_rows), eval::photo_table_markdown(rows),
+        eval::loss_table_markdown(suite_rows));
+    eval::replace_markdown_section(a.markdown, "## Photo scenes", body);
+    std::printf("tables written to %s (section \"Photo scenes\")\n", a.markdown.c_str());
+  }
+}
+
 struct LoopArgs {
   std::string file, layout, markdown, only, out;
   FaceTrackerArgs face;  // --markerless: the head rendered bare, tracked by its landmarks
@@ -436,6 +500,28 @@ void add_eval_commands(CLI::App& app) {
                     "eyes.max_dot_growth=1.3, lower_lip.together=false, dots.max_elongation=4");
   suite->footer("Example:\n  rostro eval suite --markdown docs/accuracy.md");
   suite->callback([] { eval_suite(su); });
+
+  static PhotosArgs ph;
+  CLI::App* photos = eval->add_subcommand(
+      "photos",
+      "Photo scenes: real face photographs with the layout painted on, moved by smooth warps, "
+      "tracked and scored");
+  photos->add_option("--file", ph.file,
+                     "photo scenes definition (default data/eval/photo_scenes.json)");
+  photos->add_option("--fixtures", ph.fixtures,
+                     "folder of the photographs (default ../shared/fixtures/faces)");
+  photos->add_option("--layout", ph.layout,
+                     "marker layout JSON (default data/layouts/default.json)");
+  photos->add_option("--only", ph.only, "run only these scenes, e.g. still,blur");
+  photos->add_option("--markdown", ph.markdown,
+                     "write the tables into this Markdown file's \"## Photo scenes\" section");
+  photos->add_option("--tracker-option", ph.tracker_options,
+                     "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. "
+                     "dots.max_elongation=4");
+  photos->footer(
+      "Example:\n  rostro eval photos --only still,blur\n  rostro eval photos --markdown "
+      "docs/accuracy.md");
+  photos->callback([] { eval_photos(ph); });
 
   static LoopArgs lo;
   CLI::App* loop = eval->add_subcommand(

@@ -1,0 +1,91 @@
+// The photo scenes file (data/eval/photo_scenes.json) and the counts `rostro eval photos` adds
+// to the suite's columns: markers reported while hidden, frames to reacquire.
+
+#include "eval/photo_suite.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+
+#include "facecore/error.hpp"
+
+namespace rostro::eval {
+namespace {
+
+// Frames of one marker "m": visible[i] in the truth; reported[i] valid in the estimate at
+// `offset` px from the truth.
+void make(const std::vector<bool>& visible, const std::vector<bool>& reported, double offset,
+          std::vector<tracking::TrackedFrame>& truth, std::vector<tracking::TrackedFrame>& est) {
+  for (std::size_t i = 0; i < visible.size(); ++i) {
+    tracking::TrackedFrame t, e;
+    t.frame = e.frame = static_cast<long>(i);
+    t.markers.push_back({"m", {}, {100, 100}, visible[i], 1});
+    e.markers.push_back({"m", {}, {100 + offset, 100}, reported[i], 1});
+    truth.push_back(t);
+    est.push_back(e);
+  }
+}
+
+TEST(PhotoSuite, CountsHiddenButReportedAndFramesToReacquire) {
+  std::vector<tracking::TrackedFrame> truth, est;
+  //            0     1     2      3      4     5      6      7     8
+  make({true, true, false, false, true, true, true, true, true},
+       {true, true, true, false, false, false, true, true, true}, 0.5, truth, est);
+  PhotoRow row;
+  count_hidden_and_reacquire(truth, est, row);
+  EXPECT_EQ(row.hidden_reported, 1);  // frame 2
+  EXPECT_EQ(row.occlusions, 1);
+  EXPECT_EQ(row.worst_reacquire, 2);  // back in view at 4, reported at 6
+}
+
+TEST(PhotoSuite, AMarkerReportedFarFromItsTruthIsNotBack) {
+  std::vector<tracking::TrackedFrame> truth, est;
+  make({true, false, true, true}, {true, false, true, true}, 5.0, truth, est);
+  PhotoRow row;
+  count_hidden_and_reacquire(truth, est, row);
+  EXPECT_EQ(row.worst_reacquire, -1);
+}
+
+TEST(PhotoSuite, HiddenFromTheStartIsNoOcclusion) {
+  std::vector<tracking::TrackedFrame> truth, est;
+  make({false, false, true, true}, {false, true, true, true}, 0.0, truth, est);
+  PhotoRow row;
+  count_hidden_and_reacquire(truth, est, row);
+  EXPECT_EQ(row.hidden_reported, 1);
+  EXPECT_EQ(row.occlusions, 0);
+  EXPECT_EQ(row.worst_reacquire, 0);
+}
+
+TEST(PhotoSuite, DefaultFileCoversEveryPhotoAndTheIssuesCases) {
+  const PhotoSuiteDefinition d = load_photo_scenes(default_photo_scenes_path());
+  std::set<std::string> photos;
+  bool blur = false, enter = false, hand = false, vga = false;
+  for (const PhotoScenario& s : d.scenarios) {
+    photos.insert(s.scene.photo.string());
+    blur = blur || s.scene.first_blur_px >= 14;
+    enter = enter || s.scene.enter_seconds > 0;
+    hand = hand || s.scene.hand;
+    vga = vga || s.scene.size == cv::Size(640, 480);
+    EXPECT_GE(s.scene.dot_px, 5) << s.name;
+    EXPECT_LE(s.scene.dot_px, 14) << s.name;
+  }
+  EXPECT_EQ(photos, (std::set<std::string>{"2007_007763.jpg", "2008_001009.jpg", "2008_001322.jpg",
+                                           "2008_002079.jpg", "bald_guys.jpg"}));
+  EXPECT_TRUE(blur && enter && hand && vga);
+}
+
+TEST(PhotoSuite, UnknownKeyIsAnInputErrorNamingIt) {
+  const auto path = std::filesystem::temp_directory_path() / "rostro_photo_scenes_test.json";
+  std::ofstream(path) << R"({"scenarios": [{"name": "a", "photo": "x.jpg", "blurr": 3}]})";
+  try {
+    load_photo_scenes(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("blurr"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace rostro::eval
