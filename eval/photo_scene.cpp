@@ -496,7 +496,12 @@ void validate(const PhotoSceneOptions& o) {
 // Each layout marker's place in the output frame at rest (see the header): dots from their
 // landmark or the smooth map, nudged onto skin and kept apart; tags through the map's affine.
 std::vector<Painted> place_markers(const tracking::MarkerLayout& layout, const FaceFrame& face,
-                                   const SmoothMap& map, double dot_px) {
+                                   const SmoothMap& map, double dot_px, double jitter,
+                                   unsigned seed) {
+  // A make-up artist's hand: each dot up to `jitter` eye widths off its place, uniformly over
+  // a disc (the scene's own placement stream, apart from its noise).
+  std::mt19937 hand(seed * 2654435761u + 17);
+  std::uniform_real_distribution<double> unit_interval(0, 1);
   const tracking::IbugMapping mapping = tracking::default_ibug_mapping();
   std::map<std::string, const tracking::IbugMarker*> by_fp;
   for (const tracking::IbugMarker& m : mapping.markers) by_fp[m.feature_point.str()] = &m;
@@ -519,7 +524,9 @@ std::vector<Painted> place_markers(const tracking::MarkerLayout& layout, const F
       at = keep_clear(at, face.mean(42, 47), 0.3 * face.eye + radius);
       at = keep_clear(at, (face.at(31) + face.at(32)) / 2, 0.12 * face.eye + radius);
       at = keep_clear(at, (face.at(34) + face.at(35)) / 2, 0.12 * face.eye + radius);
-      p.at = at;
+      const double r = jitter * face.eye * std::sqrt(unit_interval(hand));
+      const double a = 2 * std::numbers::pi * unit_interval(hand);
+      p.at = at + cv::Point2d(r * std::cos(a), r * std::sin(a));
     }
     painted.push_back(p);
   }
@@ -689,7 +696,8 @@ PhotoSceneResult render_photo_scene(const PhotoSceneOptions& o,
   const FaceFrame face = face_frame(lm);
 
   const SmoothMap map = layout_map(layout, face);
-  const std::vector<Painted> painted = place_markers(layout, face, map, o.dot_px);
+  const std::vector<Painted> painted =
+      place_markers(layout, face, map, o.dot_px, o.placement_jitter, o.seed);
 
   // Every frame's warp, and the canvas that covers every output pixel's source.
   const long frames = std::max(1L, std::lround(o.seconds * o.fps));

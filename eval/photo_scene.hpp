@@ -11,9 +11,9 @@
 // skin as a make-up artist would: brow dots above the brow hair, upper-lid dots above the lid line
 // and lower-lid dots below it, eye-corner and mouth-corner dots just outside the corner, the
 // chin dot (iBUG 9 is the jaw's silhouette) 15 % of the way up toward the lower lip; a dot left
-// near a pupil or a nostril is pushed away from it, and dots nearer each other than 1.8
-// diameters are pushed apart. Tags (and the headband) go through the
-// map's affine part only, so they are flat and rigid.
+// near a pupil or a nostril is pushed away from it, every dot is moved a little at random
+// (placement_jitter), and dots nearer each other than 1.8 diameters are pushed apart. Tags (and
+// the headband) go through the map's affine part only, so they are flat and rigid.
 //
 // Rendering: the photo is resampled (INTER_CUBIC, its own surroundings reflected past its
 // edges) onto a canvas twice as fine as the output, scaled so that the face
@@ -52,6 +52,10 @@ struct PhotoSceneOptions {
   cv::Size size{1280, 720};
   double face_px = 300;  // the face's width (jaw, iBUG 1 to 17) in output pixels at rest
   double dot_px = 8;     // painted dot diameter, output pixels at rest
+  // Each dot painted up to this many eye widths (about 30 mm) off its place, at random (seeded
+  // by `seed`): the landmarks place the dots, and the tracker looks for them near landmarks
+  // too; real dots are not where a landmark model would put them.
+  double placement_jitter = 0.12;
   double fps = 25, seconds = 6;
   // "still"; "turns": roll +-8 degrees, a horizontal squeeze 0.85..1 (yaw-like), scale and
   // translation; "mouth": the jaw and lips opening at 2.5 Hz, mouth corners and brows moving;
