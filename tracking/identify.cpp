@@ -34,6 +34,18 @@ cv::Matx23d similarity_from_clouds(const std::vector<cv::Point2d>& from,
 }
 
 constexpr double kNoPair = 1e12;
+// The final naming (below): how far from its predicted place a detection may be given to a
+// dot (share of its spacing: farther in the first round, from the base alone, than once the
+// named neighbours' offsets are in; kReachLimit for a lone free detection after the rounds),
+// in how many rounds, and how much the base's own place weighs
+// against the named neighbours' offsets (one a typical spacing away: 0.61).
+constexpr double kFirstNameLimit = 0.8;
+constexpr double kNameLimit = 0.5;
+constexpr double kReachLimit = 0.9;
+constexpr int kNameRounds = 3;
+// The face model's offsets from its affine are averaged with this much weight on none.
+constexpr double kFaceShrink = 0.5;
+constexpr double kOwnWeight = 0.2;
 
 // The column given to each row that minimises the total cost (rows <= columns): the
 // Hungarian method with potentials, O(rows^2 x columns). -1 for no row (never, when every row
@@ -94,7 +106,8 @@ void IdentificationOptions::validate() const {
       .positive("max_residual", max_residual)
       .within("min_margin", min_margin, 0, 1)
       .not_negative("min_tags", min_tags)
-      .positive("max_tag_error", max_tag_error);
+      .positive("max_tag_error", max_tag_error)
+      .at_least("max_elongation", max_elongation, 1);
 }
 
 std::string describe(const IdentificationConfidence& c) {
@@ -102,13 +115,23 @@ std::string describe(const IdentificationConfidence& c) {
                                 c.residual, c.margin);
   if (c.tags > 0)
     out += fmt::format(", tags {}/{} read, {} agree", c.tags_seen, c.tags, c.tags_agreeing);
+  if (c.face_model) out += ", face landmarks";
   return out;
 }
 
-Identification identify_markers(const MarkerLayout& layout, const std::vector<Dot>& dots,
+Identification identify_markers(const MarkerLayout& layout, const std::vector<Dot>& detected,
                                 const std::vector<TagDetection>& tags,
-                                const IdentificationOptions& options) {
+                                const IdentificationOptions& options,
+                                const std::map<std::string, cv::Point2d>& expected) {
   Identification id;
+  // One dot may be found twice (two peaks of one blob, a pixel apart): the stronger stays, or
+  // the two would look like rivals for one name.
+  std::vector<Dot> dots;
+  for (const Dot& d : detected)
+    if (std::none_of(dots.begin(), dots.end(), [&](const Dot& kept) {
+          return cv::norm(kept.center - d.center) < 0.5 * std::max(kept.diameter, d.diameter);
+        }))
+      dots.push_back(d);
   const double gate = options.gate;
 
   // Tags identify themselves; their corners give the first layout -> image mapping.
@@ -156,6 +179,9 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     else if (c.residual > options.max_residual)
       c.doubt =
           fmt::format("the dots lie {:.2f} spacings from the layout's arrangement", c.residual);
+    else if (c.elongation > options.max_elongation)
+      c.doubt = fmt::format("the dots are smeared ({:.1f} times as long as wide): motion blur",
+                            c.elongation);
     else if (c.margin < options.min_margin)
       c.doubt = fmt::format("another assignment explains the dots nearly as well (margin {:.2f})",
                             c.margin);
@@ -173,6 +199,14 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     for (size_t j = 0; j < layout_points.size(); ++j)
       if (i != j) spacing[i] = std::min(spacing[i], cv::norm(layout_points[i] - layout_points[j]));
   const double closest = spacing.empty() ? 1.0 : *std::min_element(spacing.begin(), spacing.end());
+  // The layout's typical spacing: how far a neighbour's offset speaks for a dot.
+  double closest_typical = 1.0;
+  if (!spacing.empty()) {
+    std::vector<double> sorted = spacing;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
+                     sorted.end());
+    closest_typical = sorted[sorted.size() / 2];
+  }
 
   auto scale_of = [](const cv::Matx23d& m) {
     return std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
@@ -319,44 +353,157 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     if (!alike(at)) rival = std::max(rival, at.score);
   id.confidence.margin = best.score > 0 ? std::clamp(1 - rival / best.score, 0.0, 1.0) : 0;
 
-  // A real face is not the layout's frontal plane: where it curves away (the cheekbones, the
-  // chin under a nod) a dot can lie most of a spacing from where the fit puts it, nearer a
-  // neighbour's place than its own. Matching one pair at a time, nearest first, then hands
-  // the neighbour's detection to the wrong dot (the chin takes the chin boss's dot and the
-  // chin boss is left without). The final matching is the assignment of detections to
-  // layout dots with the least total squared distance, up to 0.8 of each dot's spacing, a
-  // dot left unmatched costing as much as one at that limit: two dots both shifted the same
-  // way then each keep their own detection.
+  // A real face is not the layout's frontal plane, nor its average proportions: where it
+  // curves away (the cheekbones, the chin under a nod) or smiles (the mouth wide, the lower lip
+  // low), a dot lies a good part of a spacing from where the affine puts it, nearer a
+  // neighbour's place than its own, and blobs that are no dots (a beard, a lip corner) lie
+  // nearer still. So each dot gets a base place: where a model of this face puts it (dlib's
+  // landmarks, face_prior.hpp) when there is one the tags agree with, else the affine's. Its
+  // predicted place is the base plus its named neighbours' offsets from theirs (a face's own
+  // shape moves neighbours together); the naming is the assignment of detections to dots with
+  // the least total squared distance from the predictions, up to kFirstNameLimit of each dot's
+  // spacing (kNameLimit in the later rounds), a dot left unnamed costing as much as one at that
+  // limit (two dots shifted the same way each keep their own detection), repeated as the
+  // predictions improve.
   {
     const cv::Matx23d& m = best.mapping;
     const double scale = scale_of(m);
-    const std::vector<bool> usable = sized_like(best.match);
     const size_t n = layout_dots.size(), k_count = dots.size();
-    std::vector<double> limit(n);
-    std::vector<std::vector<double>> cost(n, std::vector<double>(k_count + n, kNoPair));
-    for (size_t i = 0; i < n; ++i) {
-      const cv::Point2d p = apply(m, layout_points[i]);
-      limit[i] = 0.8 * spacing[i] * scale;
-      for (size_t k = 0; k < k_count; ++k) {
-        const double d = cv::norm(dots[k].center - p);
-        if (d < limit[i] && usable[k]) cost[i][k] = d * d;
+    const std::vector<bool> usable = sized_like(best.match);
+    std::vector<cv::Point2d> base(n);
+    for (size_t i = 0; i < n; ++i) base[i] = apply(m, layout_points[i]);
+    // A model of the face, where the tags agree with it, places the dots it knows better than
+    // the affine, and the rest by the layout mapped onto those.
+    {
+      std::vector<cv::Point2d> f, t;
+      for (size_t i = 0; i < n; ++i)
+        if (auto it = expected.find(layout_dots[i]->id); it != expected.end())
+          f.push_back(layout_points[i]), t.push_back(it->second);
+      cv::Mat a;
+      if (f.size() >= 6)
+        a = cv::estimateAffine2D(f, t, cv::noArray(), cv::RANSAC, 0.3 * closest_typical * scale);
+      if (!a.empty() && 2 * tags_agreeing(cv::Matx23d(a)) >= static_cast<int>(seen_tags.size())) {
+        // The face's shape, not its points: the layout mapped by the affine through the
+        // model's places, plus their offsets from it smoothed over neighbours (a landmark
+        // may sit a little off where the dot is worn: at the visible eye corner, on the brow
+        // hair), shrunk toward none where the model places no dot near.
+        const cv::Matx23d face(a);
+        std::vector<cv::Point2d> offset(n);
+        std::vector<bool> known(n, false);
+        for (size_t i = 0; i < n; ++i)
+          if (auto it = expected.find(layout_dots[i]->id); it != expected.end())
+            offset[i] = it->second - apply(face, layout_points[i]), known[i] = true;
+        for (size_t i = 0; i < n; ++i) {
+          cv::Point2d sum(0, 0);
+          double weight = kFaceShrink;
+          for (size_t j = 0; j < n; ++j) {
+            if (!known[j]) continue;
+            const double d = cv::norm(layout_points[i] - layout_points[j]) / closest_typical;
+            const double w = std::exp(-0.5 * d * d);
+            sum += w * offset[j], weight += w;
+          }
+          base[i] = apply(face, layout_points[i]) + sum * (1 / weight);
+        }
+        id.confidence.face_model = true;
       }
-      cost[i][k_count + i] = limit[i] * limit[i];  // left unmatched
     }
-    const std::vector<int> assigned = min_cost_assignment(cost);
-    double squares = 0;
+    std::vector<double> limit(n);
+    std::vector<int> named(n, -1);
+    // Each dot's place: its base plus its named neighbours' offsets from theirs (itself left
+    // out), weighed by their nearness in the layout.
+    auto predict = [&](size_t i) {
+      cv::Point2d offset(0, 0);
+      double weight = kOwnWeight;  // the base's own say where no named neighbour is near
+      for (size_t j = 0; j < n; ++j) {
+        if (j == i || named[j] < 0) continue;
+        const double d = cv::norm(layout_points[i] - layout_points[j]) / closest_typical;
+        const double w = std::exp(-0.5 * d * d);
+        offset += w * (dots[static_cast<size_t>(named[j])].center - base[j]);
+        weight += w;
+      }
+      return base[i] + offset * (1 / weight);
+    };
+    std::vector<cv::Point2d> predicted = base;
+    for (int round = 0; round < kNameRounds; ++round) {
+      const double reach = round == 0 ? kFirstNameLimit : kNameLimit;
+      for (size_t i = 0; i < n; ++i) limit[i] = reach * spacing[i] * scale;
+      std::vector<std::vector<double>> cost(n, std::vector<double>(k_count + n, kNoPair));
+      for (size_t i = 0; i < n; ++i) {
+        for (size_t k = 0; k < k_count; ++k) {
+          const double d = cv::norm(dots[k].center - predicted[i]);
+          if (d < limit[i] && usable[k]) cost[i][k] = d * d;
+        }
+        cost[i][k_count + i] = limit[i] * limit[i];  // left unnamed
+      }
+      const std::vector<int> assigned = min_cost_assignment(cost);
+      for (size_t i = 0; i < n; ++i)
+        named[i] = assigned[i] >= 0 && assigned[i] < static_cast<int>(k_count) &&
+                           cost[i][static_cast<size_t>(assigned[i])] < kNoPair
+                       ? assigned[i]
+                       : -1;
+      for (size_t i = 0; i < n; ++i) predicted[i] = predict(i);
+    }
+    // A dot still unnamed (where the face curves away from the layout's plane most: the
+    // cheekbones) takes the one free detection within kReachLimit of its predicted place, when
+    // there is exactly one.
+    {
+      std::vector<bool> taken(k_count, false);
+      for (int k : named)
+        if (k >= 0) taken[static_cast<size_t>(k)] = true;
+      for (size_t i = 0; i < n; ++i) {
+        if (named[i] >= 0) continue;
+        int only = -1, count = 0;
+        for (size_t k = 0; k < k_count; ++k)
+          if (!taken[k] && usable[k] &&
+              cv::norm(dots[k].center - predicted[i]) < kReachLimit * spacing[i] * scale)
+            only = static_cast<int>(k), ++count;
+        if (count == 1) named[i] = only, taken[static_cast<size_t>(only)] = true;
+      }
+    }
+    for (size_t i = 0; i < n; ++i) id.places[layout_dots[i]->id] = predicted[i];
+    best.match = named;
+    // Residual: each named dot's distance from where its neighbours put it (in its spacings),
+    // the median over the named dots: a few dots where the face curves away from the plane
+    // the most do not make a naming doubtful. Margin: how much farther the next detection
+    // lies from there, in half spacings (1 at half a spacing or more), the lowest quartile: a
+    // quarter of the names in doubt make the naming doubtful.
+    std::vector<double> distances;
     int matched = 0;
+    std::vector<double> gaps;
     for (size_t i = 0; i < n; ++i) {
-      const bool found = assigned[i] >= 0 && assigned[i] < static_cast<int>(k_count) &&
-                         cost[i][static_cast<size_t>(assigned[i])] < kNoPair;
-      best.match[i] = found ? assigned[i] : -1;
-      if (!found) continue;
+      if (named[i] < 0) continue;
       ++matched;
-      const double r = std::sqrt(cost[i][static_cast<size_t>(assigned[i])]) / (spacing[i] * scale);
-      squares += r * r;
+      const double unit = spacing[i] * scale;
+      const double own = cv::norm(dots[static_cast<size_t>(named[i])].center - predicted[i]);
+      double other = 1e18;
+      for (size_t k = 0; k < k_count; ++k)
+        if (static_cast<int>(k) != named[i] && usable[k])
+          other = std::min(other, cv::norm(dots[k].center - predicted[i]));
+      distances.push_back(own / unit);
+      gaps.push_back(std::clamp((other - own) / (0.5 * unit), 0.0, 1.0));
     }
     id.confidence.matched = matched;
-    id.confidence.residual = matched > 0 ? std::sqrt(squares / matched) : 0;
+    std::vector<double> elongations;
+    for (size_t i = 0; i < n; ++i)
+      if (named[i] >= 0) elongations.push_back(dots[static_cast<size_t>(named[i])].elongation);
+    if (!elongations.empty()) {
+      std::nth_element(elongations.begin(),
+                       elongations.begin() + static_cast<long>(elongations.size() / 2),
+                       elongations.end());
+      id.confidence.elongation = elongations[elongations.size() / 2];
+    }
+    if (!distances.empty()) {
+      std::nth_element(distances.begin(),
+                       distances.begin() + static_cast<long>(distances.size() / 2),
+                       distances.end());
+      id.confidence.residual = distances[distances.size() / 2];
+    }
+    if (!gaps.empty()) {
+      std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 4), gaps.end());
+      // Without tags read, a shifted arrangement is the rival to beat as well.
+      const double local = gaps[gaps.size() / 4];
+      id.confidence.margin = seen_tags.empty() ? std::min(local, id.confidence.margin) : local;
+    }
   }
   id.layout_to_image = best.mapping;
   id.mapped = true;

@@ -18,6 +18,7 @@
 
 #include "tracking/apriltag_detector.hpp"
 #include "tracking/dot_detector.hpp"
+#include "tracking/landmark_model.hpp"
 #include "tracking/layout.hpp"
 
 namespace rostro::tracking {
@@ -29,29 +30,42 @@ struct IdentificationOptions {
   // The layout's dots share one size: a detection more than this factor larger or smaller
   // than the matched detections' median diameter (a pupil, a nostril, a clump of hair) is
   // given to no dot.
-  double size_factor = 1.8;
+  double size_factor = 1.5;
   // A confident identification meets all of these.
   double min_explained = 0.8;  // share of the layout's dots given a detection
-  double max_residual = 0.3;   // RMS distance from the fitted arrangement, in dot spacings
-  double min_margin = 0.2;     // lead over the next-best distinct assignment (share of its score)
+  double max_residual = 0.3;   // IdentificationConfidence::residual
+  double min_margin = 0.2;     // IdentificationConfidence::margin
   int min_tags = 2;            // tags read, of a layout with tags (all of them when fewer)
   // A tag agrees when its centre lies within this many tag sides of where the fitted
   // arrangement puts it; arrangements that more than half the tags read disagree with are not
   // considered at all.
   double max_tag_error = 0.5;
+  // The named dots' median elongation (long over short axis) above this is motion blur: a
+  // smeared dot's centre, and so its name, is unsure.
+  double max_elongation = 1.5;
+  // Name the dots near where dlib's landmarks put them on this face (face_prior.hpp); empty:
+  // by the layout's arrangement alone. MarkerTracker reads it; identify_markers() takes the
+  // places themselves.
+  std::filesystem::path face_model = default_landmark_model();
 
   // Throws InputError naming the first option out of range.
   void validate() const;
 };
 
 struct IdentificationConfidence {
-  int dots = 0;         // the layout's dots
-  int matched = 0;      // given a detection
-  double residual = 0;  // RMS distance of the matched from the fitted arrangement, in spacings
-  double margin = 0;    // 1 - (next-best distinct assignment's score / this one's); 1: no rival
-  int tags = 0;         // the layout's tags
-  int tags_seen = 0;    // read in the image
+  int dots = 0;     // the layout's dots
+  int matched = 0;  // given a detection
+  // Median distance of the named dots from where their named neighbours put them, in spacings.
+  double residual = 0;
+  // How much farther than its own detection the next one lies from a named dot's place, in
+  // half spacings (1: half a spacing or more), the lowest quartile over the named dots;
+  // without tags read, no more than 1 - (the best rival arrangement's score / this one's).
+  double margin = 0;
+  int tags = 0;       // the layout's tags
+  int tags_seen = 0;  // read in the image
   int tags_agreeing = 0;
+  bool face_model = false;  // the dots were named near a face model's places (face_prior.hpp)
+  double elongation = 1;    // the named dots' median elongation (motion blur smears them)
   bool confident = false;
   std::string doubt;  // why not confident, in words ("1 of 3 tags read"); empty when confident
 };
@@ -65,13 +79,20 @@ struct Identification {
   cv::Matx23d layout_to_image;               // frontal millimetres -> pixels
   bool mapped = false;                       // false when nothing could be placed
   IdentificationConfidence confidence;
+  // Where the naming expects every layout dot, named or not (layout id -> pixels): the face's
+  // own shape where a model of it was used, the layout's arrangement otherwise.
+  std::map<std::string, cv::Point2d> places;
 
   cv::Point2d project(cv::Point2d frontal_mm) const;
 };
 
+// `expected`: where a model of this face puts some of the layout's dots (layout id -> pixels,
+// face_prior.hpp), or nothing. With it the dots are named near those places (and the layout's
+// arrangement mapped onto them for the rest) wherever the tags read agree with them.
 Identification identify_markers(const MarkerLayout& layout, const std::vector<Dot>& dots,
                                 const std::vector<TagDetection>& tags,
-                                const IdentificationOptions& options = {});
+                                const IdentificationOptions& options = {},
+                                const std::map<std::string, cv::Point2d>& expected = {});
 
 // Starting positions from a file instead: the first frame of a tracks CSV (valid rows only).
 std::map<std::string, cv::Point2d> read_start_positions(const std::filesystem::path& path,

@@ -10,11 +10,13 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <optional>
+#include <set>
 #include <type_traits>
 
 #include "facecore/named_options.hpp"
 #include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
+#include "tracking/face_prior.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/ink_core.hpp"
 #include "tracking/lid_geometry.hpp"
@@ -90,7 +92,10 @@ struct MarkerTracker::Impl {
   bool started = false;
   long started_at = -1;
   IdentificationConfidence identification;
-  std::string note;      // this frame's TrackedFrame::identification
+  FacePrior face_prior{options.identification.face_model};
+  std::map<std::string, cv::Point2d> expected_start;  // Identification::places
+  std::string note;                                   // this frame's TrackedFrame::identification
+  std::set<std::string> refound;  // dots found again since the last identity check
   cv::Mat gray;          // this frame; a view of the caller's image when it is grey already
   cv::Mat gray_storage;  // conversion buffer for colour input, reused frame to frame
   // The LK pyramids cover only the region the markers occupy (plus room for motion), not the
@@ -316,6 +321,7 @@ struct MarkerTracker::Impl {
   std::vector<std::pair<cv::Point2d, cv::Point2d>> find_at_start_positions(
       const std::vector<TagDetection>& tags) {
     std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
+    expected_start.clear();
     for (MarkerState& s : states) {
       s.valid = false;
       auto it = start_positions.find(s.spec->id);
@@ -337,8 +343,18 @@ struct MarkerTracker::Impl {
   std::vector<std::pair<cv::Point2d, cv::Point2d>> identify(const std::vector<TagDetection>& tags) {
     std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
     auto dots = detect_dots(gray, centroid_dots);
-    Identification id = identify_markers(layout, dots, tags, options.identification);
+    const auto expected = expected_places(tags);
+    Identification id = identify_markers(layout, dots, tags, options.identification, expected);
+    // With a landmark model at hand, the layout's arrangement alone is not enough to start on:
+    // on a real face it names the lower face a row off (the dots of a smile, a long jaw). The
+    // face is found on a later frame (it entered, turned back, came into focus).
+    if (face_prior.available() && !id.confidence.face_model && id.confidence.confident) {
+      id.confidence.confident = false;
+      id.confidence.doubt = expected.empty() ? "the landmark model found no face"
+                                             : "the face's landmarks disagree with the tags";
+    }
     identification = id.confidence;
+    expected_start = id.places;
     for (MarkerState& s : states) {
       s.valid = false;
       if (s.spec->is_tag()) {
@@ -354,6 +370,30 @@ struct MarkerTracker::Impl {
     return known;
   }
 
+  // Where dlib's landmarks put the layout's dots on the face the tags are on (face_prior.hpp):
+  // the face is looked for around the layout's nose tip as the tags place it, at the size
+  // they give (a face about 140 mm wide); without tags, the largest face.
+  std::map<std::string, cv::Point2d> expected_places(const std::vector<TagDetection>& tags) {
+    std::vector<cv::Point2d> from, to;
+    for (const MarkerSpec& m : layout.markers)
+      for (const TagDetection& t : tags)
+        if (m.is_tag() && t.family == m.family && t.id == m.tag_id) {
+          const auto corners = m.tag_corners_frontal();
+          for (int k = 0; k < 4; ++k) from.push_back(corners[k]), to.push_back(t.corners[k]);
+        }
+    std::optional<cv::Point2d> near;
+    double face_px = std::min(gray.cols, gray.rows) / 3.0;
+    if (!from.empty()) {
+      const cv::Mat s = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
+      if (!s.empty()) {
+        const cv::Matx23d m(s);
+        near = apply(m, cv::Point2d(0, 0));
+        face_px = 140 * std::hypot(m(0, 0), m(1, 0));
+      }
+    }
+    return face_prior.expected(gray, layout, near, face_px);
+  }
+
   // Where the unseen markers should be: the layout mapped by the seen ones.
   void place_unseen(const std::vector<std::pair<cv::Point2d, cv::Point2d>>& known) {
     std::vector<cv::Point2d> from, to;
@@ -365,7 +405,11 @@ struct MarkerTracker::Impl {
     for (size_t i = 0; i < n; ++i) {
       MarkerState& s = states[i];
       if (s.valid) continue;
-      reference[i] = apply(mapping, s.spec->frontal());
+      // The identification's place for an unseen dot follows this face's shape; the mapping
+      // the layout's average one.
+      const auto place = expected_start.find(s.spec->id);
+      reference[i] =
+          place != expected_start.end() ? place->second : apply(mapping, s.spec->frontal());
       if (s.spec->is_tag()) {
         auto c = s.spec->tag_corners_frontal();
         for (int k = 0; k < 4; ++k) reference_corners[i][k] = apply(mapping, c[k]);
@@ -563,10 +607,12 @@ struct MarkerTracker::Impl {
   }
 
   // 5. The followed dots named again from their places and the tags read
-  //    (TrackerOptions::identity_check_every). The naming is trusted only when confident (a
-  //    face near its neutral arrangement); a dot it calls otherwise is dropped rather than
-  //    renamed, so a false alarm costs a frame or two of one dot, and re-acquisition (4.)
-  //    brings the right one back under its own name.
+  //    (TrackerOptions::identity_check_every). Only a dot found again since the last check is
+  //    in question: LK following a dot frame to frame keeps its name, re-acquisition (4.)
+  //    chooses one, and a jaw dropping while the chin is lost puts the chin boss at the
+  //    chin's place in the flat arrangement (Xface fear: dropping it there handed the chin the
+  //    chin boss's dot for 87 frames). The naming is trusted only when confident; a dot it
+  //    calls otherwise is dropped rather than renamed, and looked for again under its own name.
   void check_identities() {
     std::vector<Dot> places;
     std::vector<size_t> owner;
@@ -585,7 +631,9 @@ struct MarkerTracker::Impl {
         places.push_back(d), owner.push_back(i);
       }
     }
-    if (tags.empty()) return;
+    const std::set<std::string> doubted = std::move(refound);
+    refound.clear();
+    if (tags.empty() || doubted.empty()) return;
     const Identification id = identify_markers(layout, places, tags, options.identification);
     if (!id.confidence.confident) return;
     // Each followed dot's name in the naming; a dot it leaves out is no evidence.
@@ -603,6 +651,7 @@ struct MarkerTracker::Impl {
     std::vector<size_t> wrong;
     for (size_t k = 0; k < places.size(); ++k) {
       const std::string& own = states[owner[k]].spec->id;
+      if (!doubted.count(own)) continue;  // followed by LK all along: its name holds
       const auto it = called.find(own);
       if (it == called.end() || it->second == own) continue;
       const auto back = called.find(it->second);
@@ -1155,6 +1204,8 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
   m.note.clear();
   for (MarkerState& s : m.states) {
     if (s.valid) s.lost_reason = LostReason::None;
+    // Found again after being lost: its name was chosen by re-acquisition, not carried by LK.
+    if (s.valid && s.lost_frames > 0 && m.started_at != frame) m.refound.insert(s.spec->id);
     s.lost_frames = s.valid ? 0 : s.lost_frames + 1;
     if (!s.valid) s.quality = 0;
     MarkerObservation o;
@@ -1249,6 +1300,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, identification.min_margin),
       ROSTRO_NAMED_OPTION(O, identification.min_tags),
       ROSTRO_NAMED_OPTION(O, identification.max_tag_error),
+      ROSTRO_NAMED_OPTION(O, identification.max_elongation),
       ROSTRO_NAMED_OPTION(O, identity_check_every),
       ROSTRO_NAMED_OPTION(O, threads),
   };

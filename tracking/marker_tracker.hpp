@@ -27,9 +27,9 @@
 //     dot is only accepted between its eye's corner line and not far beyond its start distance from
 //     it. The lower lip's dots are looked for together, below the upper lip, and found again
 //     only where their shape fits (LowerLipOptions::together);
-//  5. every few frames with the tags read, the dots are named again from where they are
-//     (TrackerOptions::identity_check_every): a dot followed onto another's place, or
-//     named wrongly from the start, is dropped and looked for again under its own name.
+//  5. every few frames with the tags read, the dots found again since the last check are
+//     named again from where they are (TrackerOptions::identity_check_every): one
+//     re-acquired at another's place is dropped and looked for again under its own name.
 
 #include <map>
 #include <memory>
@@ -84,10 +84,10 @@ struct TrackerOptions {
   int min_identified = 3;  // markers needed to start tracking
   // When an identification is confident enough to start on (identify.hpp).
   IdentificationOptions identification;
-  // Every this many frames, with the tags read, the followed dots are named again from their
-  // places and the tags (identify.hpp); a dot a confident naming calls otherwise is dropped
-  // (LostReason::Identity) and looked for again under its own name, and the frame reports
-  // it. 0: never.
+  // Every this many frames, with the tags read, the dots found again since the last check are
+  // named again from their places and the tags (identify.hpp); one a confident naming calls
+  // otherwise is dropped (LostReason::Identity) and looked for again under its own name, and
+  // the frame reports it. 0: never.
   int identity_check_every = 10;
   // Threads the followed dots' centres are measured on each frame (0: the machine's cores;
   // OpenCV's cv::setNumThreads caps them). Any count gives the same tracks: each dot is

@@ -44,8 +44,11 @@ struct RunStats {
   long late = 0;     // visible for 3+ frames after an occlusion, still invalid
 };
 
+// The synthetic scene is a skin texture, not a face: identification goes by the layout's
+// arrangement alone (IdentifiesOnlyOnAFaceWhenTheModelIsThere).
 TrackerOptions options_for(const SceneOptions& scene) {
   TrackerOptions o;
+  o.identification.face_model.clear();
   o.dots.min_diameter_px = std::max(3.0, scene.dot_diameter_px * 0.5);
   o.dots.max_diameter_px = scene.dot_diameter_px * 2;
   o.tags.decimation = 1;
@@ -230,6 +233,23 @@ TEST(Tracker, IdentifiesOnlyWhenItsTagsAreRead) {
   EXPECT_TRUE(second.identification().confident);
   EXPECT_EQ(second.identification().tags_seen, 3);
   EXPECT_NE(first.identification.find("identified, "), std::string::npos) << first.identification;
+}
+
+// With dlib's landmark model at hand, markers are named only on a frame where it finds the
+// face they are on: the textured scene has none.
+TEST(Tracker, IdentifiesOnlyOnAFaceWhenTheModelIsThere) {
+  if (!std::filesystem::exists(default_landmark_model()))
+    GTEST_SKIP() << "no landmark model at " << default_landmark_model() << " (libdlib-data)";
+  MarkerLayout layout = default_layout();
+  SceneOptions o;
+  SyntheticScene scene(layout, o);
+  std::map<std::string, Truth> truth;
+  TrackerOptions options = options_for(o);
+  options.identification.face_model = default_landmark_model();
+  MarkerTracker tracker(layout, options);
+  tracker.track(scene.render(0, truth), 0, 0);
+  EXPECT_FALSE(tracker.started());
+  EXPECT_EQ(tracker.identification().doubt, "the landmark model found no face");
 }
 
 TEST(Tracker, StartsFromAFileOfPositions) {
