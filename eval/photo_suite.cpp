@@ -24,7 +24,7 @@ PhotoScenario parse_photo_scenario(const json& j, const json& defaults, const st
   static const std::set<std::string> known = {
       "name",          "title",      "photo",    "face",   "size", "face_px",
       "dot_px",        "fps",        "seconds",  "motion", "seed", "first_blur_px",
-      "enter_seconds", "brightness", "gradient", "noise",  "hand"};
+      "enter_seconds", "brightness", "gradient", "noise",  "hand", "placement_jitter"};
   if (!j.is_object()) throw InputError(where + ": a scenario should be an object");
   for (const auto& [key, value] : j.items())
     if (!known.count(key)) throw InputError(where + ": unknown key '" + key + "'");
@@ -65,6 +65,9 @@ PhotoScenario parse_photo_scenario(const json& j, const json& defaults, const st
   o.gradient = num("gradient", 0);
   o.noise = num("noise", o.noise);
   o.hand = j.value("hand", false);
+  o.placement_jitter = num("placement_jitter", o.placement_jitter);
+  if (!(o.placement_jitter >= 0))
+    throw InputError(where + " (" + s.name + "): 'placement_jitter' should not be negative");
   if (!(o.fps > 0) || !(o.seconds > 0))
     throw InputError(where + " (" + s.name + "): fps and seconds should be positive");
   return s;
@@ -90,8 +93,8 @@ std::filesystem::path default_faces_dir() {
 PhotoSuiteDefinition load_photo_scenes(const std::filesystem::path& path) {
   const json j = read_json_file(path, "the photo scenes file");
   PhotoSuiteDefinition d;
-  d.scenarios = parse_scenario_list<PhotoScenario>(j, path, {"seconds", "fps", "size", "noise"},
-                                                   parse_photo_scenario);
+  d.scenarios = parse_scenario_list<PhotoScenario>(
+      j, path, {"seconds", "fps", "size", "noise", "placement_jitter"}, parse_photo_scenario);
   d.description = j.value("description", "");
   return d;
 }

@@ -9,8 +9,9 @@
 //                      "face_px": 300, "dot_px": 8, "motion": "turns" }, ... ] }
 // Scenario keys (each optional but name and photo): title, photo (relative to the fixtures
 // folder), face, size [w, h], face_px, dot_px, fps, seconds, motion, first_blur_px,
-// enter_seconds, brightness, gradient, noise, hand (true/false), seed: PhotoSceneOptions'
-// fields of the same names. The top-level seconds, fps, size and noise are defaults.
+// enter_seconds, brightness, gradient, noise, hand (true/false), seed, placement_jitter:
+// PhotoSceneOptions' fields of the same names. The top-level seconds, fps, size, noise and
+// placement_jitter are defaults.
 
 #include <filesystem>
 #include <functional>
