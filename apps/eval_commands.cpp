@@ -306,7 +306,8 @@ void eval_photos(const PhotosArgs& a) {
         "the dots near dlib's landmarks on the frame (tracking/face_prior.hpp). The scenes "
         "move each dot up to 0.12 eye widths off its landmark at random and nudge the brow, "
         "lid and corner dots onto skin, so the two do not coincide, but a face whose dots sit "
-        "farther from the landmarks than that has not been tried.\n\n{}\nCentre errors of the dots and tags over "
+        "farther from the landmarks than that has not been tried.\n\n{}\nCentre errors of the dots "
+        "and tags over "
         "scored "
         "observations (visible in the truth, valid in the estimate); hidden but reported: "
         "valid in the estimate while not visible in the truth; reacquire: the most frames a "
@@ -421,12 +422,9 @@ void eval_loop(const LoopArgs& a) {
     for (const auto& r : results)
       body += fmt::format("\n### {} ({} frames)\n\n{}", r.title, r.frames,
                           eval::loop_fap_table_markdown(r));
-    // One bare-face section per scenario file (the sizes differ between the files).
-    const std::string section =
-        !a.face.markerless ? "## Closed loop: FAPs"
-        : a.file.empty()
-            ? "## Closed loop: bare face"
-            : "## Closed loop: bare face, " + std::filesystem::path(a.file).stem().string();
+    // One section per tracker and scenario file (the sizes differ between the files).
+    std::string section = a.face.markerless ? "## Closed loop: bare face" : "## Closed loop: FAPs";
+    if (!a.file.empty()) section += ", " + std::filesystem::path(a.file).stem().string();
     eval::replace_markdown_section(a.markdown, section, body);
     std::printf("tables written to %s (section \"%s\")\n", a.markdown.c_str(), section.c_str() + 3);
   }
