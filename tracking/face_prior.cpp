@@ -28,8 +28,8 @@ std::shared_ptr<LandmarkModel> shared_model(const std::filesystem::path& path) {
 
 }  // namespace
 
-FacePrior::FacePrior(std::filesystem::path model) : path_(std::move(model)) {
-  if (!path_.empty()) model_ = shared_model(path_);
+FacePrior::FacePrior(const std::filesystem::path& model) {
+  if (!model.empty()) model_ = shared_model(model);
   if (model_) mapping_ = default_ibug_mapping();
 }
 FacePrior::~FacePrior() = default;

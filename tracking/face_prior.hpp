@@ -27,7 +27,7 @@ class FacePrior {
   // empty (identification then goes by the layout's arrangement alone), as does an empty path.
   // The model is read here (about 0.9 s for Debian's, not in a live run's first frame), once
   // per process for every FacePrior of the same file.
-  explicit FacePrior(std::filesystem::path model);
+  explicit FacePrior(const std::filesystem::path& model);
   ~FacePrior();
 
   // Layout dot id -> pixels, on the face found in the 8-bit grey `gray` whose box holds `near`
@@ -39,7 +39,6 @@ class FacePrior {
   bool available() const;
 
  private:
-  std::filesystem::path path_;
   std::shared_ptr<LandmarkModel> model_;
   IbugMapping mapping_;
 };

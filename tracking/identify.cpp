@@ -33,6 +33,14 @@ cv::Matx23d similarity_from_clouds(const std::vector<cv::Point2d>& from,
   return {k, 0, ct.x - k * cf.x, 0, k, ct.y - k * cf.y};
 }
 
+// The value a `share` of `values` lie below (0.5: the median); `fallback` when there are none.
+double quantile(std::vector<double> values, double share, double fallback) {
+  if (values.empty()) return fallback;
+  const auto at = values.begin() + static_cast<long>(share * static_cast<double>(values.size()));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
 constexpr double kNoPair = 1e12;
 // The final naming (below): how far from its predicted place a detection may be given to a
 // dot (share of its spacing: farther in the first round, from the base alone, than once the
@@ -200,13 +208,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       if (i != j) spacing[i] = std::min(spacing[i], cv::norm(layout_points[i] - layout_points[j]));
   const double closest = spacing.empty() ? 1.0 : *std::min_element(spacing.begin(), spacing.end());
   // The layout's typical spacing: how far a neighbour's offset speaks for a dot.
-  double closest_typical = 1.0;
-  if (!spacing.empty()) {
-    std::vector<double> sorted = spacing;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
-                     sorted.end());
-    closest_typical = sorted[sorted.size() / 2];
-  }
+  const double closest_typical = quantile(spacing, 0.5, 1.0);
 
   auto scale_of = [](const cv::Matx23d& m) {
     return std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
@@ -219,8 +221,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       if (k >= 0) d.push_back(dots[static_cast<size_t>(k)].diameter);
     std::vector<bool> ok(dots.size(), true);
     if (d.size() < 3) return ok;
-    std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
-    const double median = d[d.size() / 2];
+    const double median = quantile(d, 0.5, 0);
     for (size_t k = 0; k < dots.size(); ++k)
       ok[k] = dots[k].diameter <= median * options.size_factor &&
               dots[k].diameter >= median / options.size_factor;
@@ -486,22 +487,11 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     std::vector<double> elongations;
     for (size_t i = 0; i < n; ++i)
       if (named[i] >= 0) elongations.push_back(dots[static_cast<size_t>(named[i])].elongation);
-    if (!elongations.empty()) {
-      std::nth_element(elongations.begin(),
-                       elongations.begin() + static_cast<long>(elongations.size() / 2),
-                       elongations.end());
-      id.confidence.elongation = elongations[elongations.size() / 2];
-    }
-    if (!distances.empty()) {
-      std::nth_element(distances.begin(),
-                       distances.begin() + static_cast<long>(distances.size() / 2),
-                       distances.end());
-      id.confidence.residual = distances[distances.size() / 2];
-    }
+    id.confidence.elongation = quantile(elongations, 0.5, 1);
+    id.confidence.residual = quantile(distances, 0.5, 0);
     if (!gaps.empty()) {
-      std::nth_element(gaps.begin(), gaps.begin() + static_cast<long>(gaps.size() / 4), gaps.end());
       // Without tags read, a shifted arrangement is the rival to beat as well.
-      const double local = gaps[gaps.size() / 4];
+      const double local = quantile(gaps, 0.25, 0);
       id.confidence.margin = seen_tags.empty() ? std::min(local, id.confidence.margin) : local;
     }
   }
