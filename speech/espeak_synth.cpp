@@ -2,6 +2,7 @@
 
 #include <espeak-ng/speak_lib.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
@@ -55,6 +56,8 @@ bool set_voice_by_language(const std::string& language) {
 
 }  // namespace
 
+constexpr int kDefaultPitch = 50;  // espeak-ng's own default
+
 Synthesis synthesize(const std::string& text, const SynthOptions& options) {
   std::lock_guard lock(g_espeak_mutex);
   ensure_initialised();
@@ -63,7 +66,8 @@ Synthesis synthesize(const std::string& text, const SynthOptions& options) {
     throw InputError("espeak-ng has no voice '" + options.voice +
                      "' (try es, es-419, pt, pt-br, en, en-us)");
   espeak_SetParameter(espeakRATE, options.rate_wpm > 0 ? options.rate_wpm : espeakRATE_NORMAL, 0);
-  if (options.pitch >= 0) espeak_SetParameter(espeakPITCH, options.pitch, 0);
+  // espeak-ng's parameters are global: a pitch left by an earlier call must not carry over.
+  espeak_SetParameter(espeakPITCH, options.pitch >= 0 ? options.pitch : kDefaultPitch, 0);
 
   Synthesis out;
   out.audio.sample_rate = g_sample_rate;
