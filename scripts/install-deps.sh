@@ -13,6 +13,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   liblo-dev ffmpeg
   libdlib-dev libdlib-data
+  libavformat-dev libavcodec-dev libswresample-dev libavutil-dev
+  libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us
+  flite alsa-utils
 )
 
 missing=()
