@@ -1,5 +1,6 @@
-// `rostro speak`: text (or an MBROLA .pho with its WAV) to a lip-synced FAP stream plus the
-// speech audio. All the work is in speech/; this file maps options onto it.
+// `rostro speak`: text, a recording with or without its transcript, or an MBROLA .pho to a
+// lip-synced FAP stream, the speech audio and mouth cues. All the work is in speech/; this
+// file maps options onto it.
 
 #include <fmt/format.h>
 
@@ -17,6 +18,7 @@
 #include "facecore/fap_io.hpp"
 #include "speech/animator.hpp"
 #include "speech/emotion_markup.hpp"
+#include "speech/mouth_cues.hpp"
 #include "speech/pipeline.hpp"
 
 namespace rostro::app {
@@ -31,6 +33,8 @@ struct SpeakArgs {
   std::string audio;
   std::string output;
   std::string wav;
+  std::string cues;
+  double cue_fps = 24.0;
   std::string emotion;
   double fps = 25.0;
   int rate = 0;
@@ -65,16 +69,33 @@ std::string read_text_file(const std::string& path) {
   return ss.str();
 }
 
+// Where the phoneme times came from, for the summary line.
+std::string recognition_note(const speech::PreparedSpeech& p) {
+  switch (p.recognition) {
+    case speech::Recognition::Synthesis:
+      return "voice " + p.voice;
+    case speech::Recognition::Pho:
+      return "times from the .pho";
+    case speech::Recognition::Alignment:
+      return fmt::format("aligned to the transcript through voice {}, match ratio {:.2f}", p.voice,
+                         p.match_ratio);
+    case speech::Recognition::PhoneRecognition:
+      return "phones recognised by PocketSphinx";
+  }
+  return {};
+}
+
 void speak(const SpeakArgs& a) {
   check_fps(a.fps, "--fps");
   // A signal abandons the run: the .fap and the WAV are written whole or not at all.
   InterruptScope interrupt;
   const int sources = !a.text.empty() + !a.text_file.empty() + !a.pho.empty();
-  if (sources != 1) throw InputError("give exactly one of: TEXT, --text-file F, --pho F");
-  if (!a.audio.empty() && a.pho.empty()) throw InputError("--audio goes with --pho");
+  if (sources > 1 || (sources == 0 && a.audio.empty()))
+    throw InputError("give one of: TEXT, --text-file F, --pho F, or a recording with --audio F");
   if (!a.wav.empty() && !a.pho.empty() && a.audio.empty())
     throw InputError("--wav with --pho needs the speech audio (--audio F)");
-  fap_format_for(a.output);  // reject an unknown extension before any work
+  fap_format_for(a.output);  // reject unknown extensions before any work
+  if (!a.cues.empty()) speech::cue_format_for(a.cues);
 
   speech::SpeechRequest request;
   request.language = a.language;
@@ -137,11 +158,15 @@ void speak(const SpeakArgs& a) {
   sink->finish();
   progress.finish();
   if (!a.wav.empty()) speech::write_wav(a.wav, prepared.audio);
+  if (!a.cues.empty())
+    speech::write_cues(a.cues,
+                       speech::mouth_cues(prepared.resolution.phonemes, prepared.duration_s),
+                       !a.audio.empty() ? a.audio : a.wav, prepared.duration_s, a.cue_fps);
 
-  std::printf("%s: %ld frames at %g fps (%.2f s of speech, %zu phonemes, %zu keys%s)\n",
+  std::printf("%s: %ld frames at %g fps (%.2f s of speech, %zu phonemes, %zu keys, %s)\n",
               a.output.c_str(), animator.frame_count(), a.fps, prepared.duration_s,
               prepared.resolution.phonemes.size(), animator.keys().size(),
-              prepared.voice.empty() ? "" : (", voice " + prepared.voice).c_str());
+              recognition_note(prepared).c_str());
   if (!a.wav.empty())
     std::printf("%s: %.2f s at %d Hz\n", a.wav.c_str(), prepared.audio.duration_s(),
                 prepared.audio.sample_rate);
@@ -167,10 +192,20 @@ void add_speech_commands(CLI::App& app) {
       ->check(CLI::Range(80, 450));
   cmd->add_option("--pho", args->pho, "MBROLA .pho file (phoneme, duration ms) instead of text")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--audio", args->audio, "The WAV that goes with --pho")->check(CLI::ExistingFile);
+  cmd->add_option("--audio", args->audio,
+                  "A recording (WAV, FLAC, MP3, Ogg, M4A...): with TEXT or --text-file, aligned "
+                  "to that transcript; alone, English phones recognised (PocketSphinx); with "
+                  "--pho, its audio")
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->output, "Output FAP stream (.fap, .csv or .json)")
       ->required();
   cmd->add_option("--wav", args->wav, "Write the speech audio here (16-bit PCM WAV)");
+  cmd->add_option("--cues", args->cues,
+                  "Also write Rhubarb Lip Sync mouth cues (shapes A-H, X) here: .tsv, .json, "
+                  ".xml or .dat (Moho switch data)");
+  cmd->add_option("--cue-fps", args->cue_fps, "Frame rate of .dat mouth cues")
+      ->check(CLI::Range(24.0, 100.0))
+      ->capture_default_str();
   cmd->add_option("--fps", args->fps, "Frames per second; frame k is audio time k/fps")
       ->capture_default_str();
   cmd->add_option("--emotion", args->emotion,
@@ -187,7 +222,9 @@ void add_speech_commands(CLI::App& app) {
   rostro speak "Hola, {joy 0.8} buenos días" --lang es -o hola.fap --wav hola.wav
   rostro speak --text-file poema.txt --lang pt-pt -o poema.fap --wav poema.wav --fps 30
   rostro speak --pho hola.pho --audio hola.wav --lang es -o hola.fap
-  rostro play hola.fap --audio hola.wav -o hola.mp4)");
+  rostro play hola.fap --audio hola.wav -o hola.mp4
+  rostro speak "Hola, buenos días" --audio hola.wav --lang es -o aligned.fap --cues hola.tsv
+  rostro speak --audio data/speech/samples/hello.flac --lang en -o hello.fap --cues hello.json)");
   cmd->callback([args] { speak(*args); });
 }
 

@@ -2,11 +2,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "facecore/error.hpp"
+#include "speech/audio_file.hpp"
 #include "speech/espeak_synth.hpp"
+#include "speech/forced_align.hpp"
 #include "speech/pho_reader.hpp"
+#include "speech/phone_recognizer.hpp"
+#include "speech/speech_presence.hpp"
 
 namespace rostro::speech {
 
@@ -30,11 +35,30 @@ double tag_time(std::size_t position, const std::vector<RawPhoneme>& raw,
 PreparedSpeech prepare_speech(const SpeechRequest& request, double default_ramp_s) {
   const LanguageTable table = LanguageTable::for_language(request.language);
   PreparedSpeech out;
-  if (!request.pho.empty()) {
+  if (request.pho.empty() && request.text.empty() && !request.audio.empty()) {
+    if (table.language() != "en")
+      throw InputError(
+          "--audio without a transcript works for English only (PocketSphinx "
+          "en-us); give the " +
+          table.language() + " recording's transcript (TEXT or --text-file)");
+    out.recognition = Recognition::PhoneRecognition;
+    out.audio = read_audio(request.audio);
+    require_speech(out.audio, request.audio.string());
+    out.duration_s = out.audio.duration_s();
+    out.raw = recognize_phones(out.audio);
+    const bool heard = std::any_of(out.raw.begin(), out.raw.end(), [&](const RawPhoneme& p) {
+      const PhonemeInfo* info = table.find(p.symbol);
+      return info && info->cls != PhonemeClass::Silence;
+    });
+    if (!heard)
+      throw InputError(
+          where(request.audio.string(), 0, "no speech recognised (silence, noise or music?)"));
+  } else if (!request.pho.empty()) {
+    out.recognition = Recognition::Pho;
     out.raw = read_pho(request.pho);
     const double pho_end = out.raw.back().end_s;
     if (!request.audio.empty()) {
-      out.audio = read_wav(request.audio);
+      out.audio = read_audio(request.audio);
       out.duration_s = out.audio.duration_s();
       if (std::abs(pho_end - out.duration_s) > 0.04)
         out.warnings.push_back(
@@ -60,11 +84,28 @@ PreparedSpeech prepare_speech(const SpeechRequest& request, double default_ramp_
     synth.voice =
         request.voice.empty() ? voice_for_language(request.language, table) : request.voice;
     synth.rate_wpm = request.rate_wpm;
-    Synthesis s = synthesize(marked.clean, synth);
     out.voice = synth.voice;
-    out.audio = std::move(s.audio);
+    if (!request.audio.empty()) {
+      out.recognition = Recognition::Alignment;
+      out.audio = read_audio(request.audio);
+      require_speech(out.audio, request.audio.string());
+      AlignmentOptions align;
+      align.reference = synth;
+      Alignment aligned = align_transcript(out.audio, marked.clean, align);
+      out.match_ratio = aligned.match_ratio;
+      if (aligned.match_ratio > align.doubtful_match_ratio)
+        out.warnings.push_back(fmt::format(
+            "the recording may not say the transcript (match ratio {:.2f}; readings of the "
+            "right text measure 0.2-0.9, of another text 0.8-0.92): check the text and --lang",
+            aligned.match_ratio));
+      out.voice = aligned.reference_voice;
+      out.raw = std::move(aligned.phonemes);
+    } else {
+      Synthesis s = synthesize(marked.clean, synth);
+      out.audio = std::move(s.audio);
+      out.raw = std::move(s.phonemes);
+    }
     out.duration_s = out.audio.duration_s();
-    out.raw = std::move(s.phonemes);
     for (const EmotionTag& tag : marked.tags)
       out.emotions.push_back({tag_time(tag.position, out.raw, table), tag.expression, tag.intensity,
                               tag.ramp_s >= 0 ? tag.ramp_s : default_ramp_s});

@@ -519,3 +519,69 @@ TEST(CliSafety, KilledLiveRecordingIsRecovered) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 20: a recording aligned to its transcript, recognised without one (English), and
+// refused in one line when it cannot be used; mouth cues beside the .fap.
+TEST(CliSpeech, AlignsARecordingAndWritesMouthCues) {
+  const auto dir = scratch("speak-audio");
+  const std::string wav = (dir / "hola.wav").string();
+  ASSERT_EQ(rostro("speak \"Hola, buenos días\" --lang es -o " + (dir / "said.fap").string() +
+                   " --wav " + wav)
+                .exit_code,
+            0);
+  CliRun run = rostro("speak \"Hola, buenos días\" --audio " + wav + " --lang es -o " +
+                      (dir / "aligned.fap").string() + " --cues " + (dir / "hola.tsv").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("aligned to the transcript"), std::string::npos) << run.output;
+  EXPECT_TRUE(fs::exists(dir / "aligned.fap"));
+  const std::string tsv = slurp(dir / "hola.tsv");
+  EXPECT_EQ(tsv.rfind("0.00\t", 0), 0u) << tsv;
+  EXPECT_NE(tsv.find("\tD\n"), std::string::npos) << tsv;  // the open a of "hola"
+
+  const std::string sample = std::string(ROSTRO_DATA_DIR) + "/speech/samples/hello.flac";
+  run = rostro("speak --audio " + sample + " --lang en -o " + (dir / "heard.fap").string() +
+               " --cues " + (dir / "heard.xml").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("recognised by PocketSphinx"), std::string::npos) << run.output;
+  EXPECT_NE(slurp(dir / "heard.xml").find("<mouthCue start=\"0.00\""), std::string::npos);
+}
+
+TEST(CliSpeech, UnusableRecordingsAreOneLineAndNoOutput) {
+  const auto dir = scratch("speak-audio-bad");
+  const std::string out = (dir / "out.fap").string();
+  const std::string cues = (dir / "out.tsv").string();
+  ASSERT_EQ(rostro("speak \"Hola\" --lang es -o " + (dir / "h.fap").string() + " --wav " +
+                   (dir / "hola.wav").string())
+                .exit_code,
+            0);
+  std::ofstream(dir / "junk.mp3") << "not audio at all\n";
+  ASSERT_EQ(std::system(("ffmpeg -loglevel error -y -f lavfi -i anullsrc=r=16000:cl=mono -t 1 " +
+                         (dir / "quiet.wav").string())
+                            .c_str()),
+            0);
+  ASSERT_EQ(std::system(("ffmpeg -loglevel error -y -f lavfi -i sine=frequency=440:duration=2 " +
+                         (dir / "tone.ogg").string())
+                            .c_str()),
+            0);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--audio " + (dir / "hola.wav").string() + " --lang es", "works for English only"},
+      {"Hola --audio " + (dir / "junk.mp3").string(), "junk.mp3: not a recording"},
+      {"Hola --audio " + (dir / "quiet.wav").string(), "quiet.wav: silent"},
+      {"--audio " + (dir / "tone.ogg").string() + " --lang en", "tone.ogg: no speech found"},
+      {"Hola --audio " + (dir / "hola.wav").string() + " --cues " + (dir / "c.txt").string(),
+       "unknown mouth-cue format"},
+  };
+  for (const auto& [args, message] : cases) {
+    const CliRun real = rostro("speak " + args + " -o " + out +
+                               (args.find("--cues") == std::string::npos ? " --cues " + cues : ""));
+    EXPECT_EQ(real.exit_code, 1) << args << "\n" << real.output;
+    EXPECT_EQ(std::count(real.output.begin(), real.output.end(), '\n'), 1) << real.output;
+    EXPECT_NE(real.output.find(message), std::string::npos) << real.output;
+    EXPECT_FALSE(fs::exists(out)) << args;
+    EXPECT_FALSE(fs::exists(cues)) << args;
+  }
+}
+
+}  // namespace
