@@ -1,6 +1,7 @@
 // Speech driver cost: planning and FAP generation for one minute of speech (synthesis
-// excluded), and the whole `rostro speak` path (synthesis, planning, frames, .fap and WAV
-// written) as a real-time factor = processing time / audio duration.
+// excluded), the whole `rostro speak` path (synthesis, planning, frames, .fap and WAV
+// written) as a real-time factor = processing time / audio duration, and aligning a
+// minute-long recording to its transcript (`rostro speak --audio --text`).
 
 #include <benchmark/benchmark.h>
 
@@ -12,6 +13,8 @@
 #include "facecore/expression_library.hpp"
 #include "facecore/fap_io.hpp"
 #include "speech/animator.hpp"
+#include "speech/espeak_synth.hpp"
+#include "speech/forced_align.hpp"
 #include "speech/pipeline.hpp"
 
 namespace {
@@ -92,6 +95,48 @@ void BM_WholeSpeakCommand(benchmark::State& state) {
   std::filesystem::remove(dir / "bench_speech.wav");
 }
 BENCHMARK(BM_WholeSpeakCommand)->Arg(905)->Arg(100)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// A minute-long "recording" the alignment's reference did not make: another espeak-ng voice
+// at another rate, so the warping has real work to do.
+const Synthesis& minute_recording() {
+  static const Synthesis s = [] {
+    SynthOptions o;
+    o.voice = "es+f3";
+    o.rate_wpm = 160;
+    return synthesize(minute_of_text(), o);
+  }();
+  return s;
+}
+
+// Everything `rostro speak --audio --text` adds: the reference synthesis, features of both
+// signals, the warping, the transcript check and the carried boundaries.
+void BM_AlignOneMinute(benchmark::State& state) {
+  const Synthesis& recording = minute_recording();
+  const std::string text = minute_of_text();
+  AlignmentOptions o;
+  o.reference.voice = "es";
+  for (auto _ : state) {
+    const Alignment a = align_transcript(recording.audio, text, o);
+    benchmark::DoNotOptimize(a.phonemes.back().start_s);
+  }
+  state.counters["audio_s"] = recording.audio.duration_s();
+}
+BENCHMARK(BM_AlignOneMinute)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// The same without the reference synthesis (espeak-ng's share).
+void BM_WarpOneMinute(benchmark::State& state) {
+  const Synthesis& recording = minute_recording();
+  SynthOptions voice;
+  voice.voice = "es";
+  const Synthesis reference = synthesize(minute_of_text(), voice);
+  const AlignmentOptions o;
+  for (auto _ : state) {
+    const Alignment a = align_reference(recording.audio, reference.audio, reference.phonemes, o);
+    benchmark::DoNotOptimize(a.phonemes.back().start_s);
+  }
+  state.counters["audio_s"] = recording.audio.duration_s();
+}
+BENCHMARK(BM_WarpOneMinute)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 
