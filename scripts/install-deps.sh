@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   liblo-dev ffmpeg
   libdlib-dev libdlib-data
+  liblua5.4-dev
 )
 
 missing=()
