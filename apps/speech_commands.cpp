@@ -15,6 +15,7 @@
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
 #include "facecore/fap_io.hpp"
+#include "script/viseme_script.hpp"
 #include "speech/animator.hpp"
 #include "speech/emotion_markup.hpp"
 #include "speech/pipeline.hpp"
@@ -32,6 +33,7 @@ struct SpeakArgs {
   std::string output;
   std::string wav;
   std::string emotion;
+  std::string viseme_script;
   double fps = 25.0;
   int rate = 0;
   unsigned long long seed = 1;
@@ -75,6 +77,8 @@ void speak(const SpeakArgs& a) {
   if (!a.wav.empty() && !a.pho.empty() && a.audio.empty())
     throw InputError("--wav with --pho needs the speech audio (--audio F)");
   fap_format_for(a.output);  // reject an unknown extension before any work
+  if (!a.viseme_script.empty() && a.high_level)
+    throw InputError("--viseme-script does not record --high-level; leave one out");
 
   speech::SpeechRequest request;
   request.language = a.language;
@@ -137,6 +141,10 @@ void speak(const SpeakArgs& a) {
   sink->finish();
   progress.finish();
   if (!a.wav.empty()) speech::write_wav(a.wav, prepared.audio);
+  if (!a.viseme_script.empty())
+    script::write_viseme_script(a.viseme_script,
+                                script::viseme_script_for(prepared, options, a.language,
+                                                          "rostro speak -o " + a.output, a.wav));
 
   std::printf("%s: %ld frames at %g fps (%.2f s of speech, %zu phonemes, %zu keys%s)\n",
               a.output.c_str(), animator.frame_count(), a.fps, prepared.duration_s,
@@ -171,6 +179,9 @@ void add_speech_commands(CLI::App& app) {
   cmd->add_option("-o,--output", args->output, "Output FAP stream (.fap, .csv or .json)")
       ->required();
   cmd->add_option("--wav", args->wav, "Write the speech audio here (16-bit PCM WAV)");
+  cmd->add_option("--viseme-script", args->viseme_script,
+                  "Also write the timed visemes as a storyboard that `rostro script` runs to the "
+                  "same .fap (docs/script.md)");
   cmd->add_option("--fps", args->fps, "Frames per second; frame k is audio time k/fps")
       ->capture_default_str();
   cmd->add_option("--emotion", args->emotion,
