@@ -36,7 +36,15 @@ void run_script(const ScriptArgs& a, const CLI::App& cmd) {
 
   script::SandboxOptions sandbox;
   sandbox.allow_outside = a.allow_outside;
-  const script::Storyboard board = script::read_storyboard(a.story, a.seed, sandbox);
+  sandbox.stop_requested = [&interrupt] { return interrupt.requested(); };
+  const script::Storyboard board = [&] {
+    try {
+      return script::read_storyboard(a.story, a.seed, sandbox);
+    } catch (const InputError&) {
+      interrupt.throw_if_requested();  // a script stopped by Ctrl-C exits 130, not 1
+      throw;
+    }
+  }();
   const std::filesystem::path output =
       !a.output.empty() ? std::filesystem::path(a.output) : board.output;
   if (output.empty())

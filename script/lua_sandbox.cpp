@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <lua.hpp>
 #include <sstream>
 
@@ -13,9 +14,11 @@ namespace rostro::script {
 
 struct LuaSandbox::Budget {
   std::size_t used = 0;
-  std::size_t max_memory = 0;
+  std::size_t max_memory = 0;  // the limit while a script runs
+  std::size_t limit = 0;       // the configured one
   long long instructions = 0;
   long long max_instructions = 0;
+  std::function<bool()> stop_requested;
 };
 
 namespace {
@@ -42,6 +45,11 @@ void budget_hook(lua_State* L, lua_Debug* ar) {
   lua_getallocf(L, &ud);
   auto* b = static_cast<LuaSandbox::Budget*>(ud);
   b->instructions += kHookEvery;
+  if (b->stop_requested && b->stop_requested()) {
+    lua_getinfo(L, "Sl", ar);
+    lua_pushfstring(L, "%s:%d: stopped", ar->short_src, ar->currentline);
+    lua_error(L);
+  }
   if (b->instructions <= b->max_instructions) return;
   lua_getinfo(L, "Sl", ar);
   lua_pushfstring(L, "%s:%d: the script ran more than %I instructions (an endless loop?)",
@@ -131,8 +139,10 @@ LuaSandbox::LuaSandbox(std::filesystem::path folder, std::uint64_t seed, Sandbox
   std::error_code ec;
   folder_ = std::filesystem::canonical(folder.empty() ? "." : folder, ec);
   if (ec) throw InputError(folder.string() + ": the script's folder does not exist");
+  budget_->limit = options.max_memory_bytes;
   budget_->max_memory = options.max_memory_bytes;
   budget_->max_instructions = options.max_instructions;
+  budget_->stop_requested = options.stop_requested;
   L_ = lua_newstate(budget_alloc, budget_.get());
   if (!L_) throw std::runtime_error("cannot start Lua: out of memory");
 
@@ -191,7 +201,11 @@ void LuaSandbox::call(int args, const std::string& what) {
   lua_pushcfunction(L_, message_handler);
   lua_insert(L_, base);
   budget_->instructions = 0;
+  budget_->max_memory = budget_->limit;
   const int status = lua_pcall(L_, args, 1, base);
+  // Reading the results happens outside protected mode, where a failed allocation would end
+  // the program: the limit applies to scripts only.
+  budget_->max_memory = std::numeric_limits<std::size_t>::max();
   lua_remove(L_, base);
   if (status != LUA_OK) {
     std::string message = lua_tostring(L_, -1) ? lua_tostring(L_, -1) : what + ": Lua error";

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -19,6 +20,8 @@ struct SandboxOptions {
   std::size_t max_memory_bytes = std::size_t{512} << 20;  // allocations beyond fail
   long long max_instructions = 2'000'000'000;             // VM instructions per run
   bool allow_outside = false;  // require() and named files may leave the folder
+  // Polled every 100000 instructions; true stops the script with an error (Ctrl-C).
+  std::function<bool()> stop_requested;
 };
 
 class LuaSandbox {

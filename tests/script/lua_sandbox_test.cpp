@@ -99,6 +99,11 @@ TEST(LuaSandbox, LoadTakesTextOnlyAndEndlessLoopsStop) {
   const auto loop = test::write(dir / "loop.lua", "local i = 0\nwhile true do i = i + 1 end\n");
   EXPECT_NE(error_of(loop, small).find("loop.lua:2: the script ran more than"), std::string::npos)
       << error_of(loop, small);
+  SandboxOptions stop;
+  int polls = 0;
+  stop.stop_requested = [&polls] { return ++polls == 3; };  // Ctrl-C during the loop
+  EXPECT_NE(error_of(loop, stop).find("loop.lua:2: stopped"), std::string::npos)
+      << error_of(loop, stop);
   small.max_memory_bytes = 4 << 20;
   const auto hog = test::write(dir / "hog.lua", "local s = string.rep('x', 64 * 1024 * 1024)\n");
   EXPECT_NE(error_of(hog, small).find("memory"), std::string::npos) << error_of(hog, small);
