@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "facecore/error.hpp"
+#include "facecore/option_check.hpp"
 #include "speech/key_sampler.hpp"
 #include "speech/pipeline.hpp"
 
@@ -63,10 +64,14 @@ std::vector<ResolvedSpeech> resolve_speech(const Storyboard& board,
   return out;
 }
 
+void SceneOptions::validate() const {
+  OptionCheck("SceneOptions").positive("fps", fps).within("fps", fps, 0, kMaxFps);
+}
+
 Scene::Scene(const Storyboard& board, std::vector<ResolvedSpeech> speech,
              const ExpressionLibrary& library, const speech::KeyShapes& shapes,
              const speech::BehaviourSettings& behaviour, const SceneOptions& options)
-    : options_(options) {
+    : options_(validated(options)) {
   const double fps = options_.fps;
   // 1. Utterances on the frame grid, one after another, never overlapping.
   speech::AnimationOptions animation;

@@ -45,6 +45,9 @@ std::vector<ResolvedSpeech> resolve_speech(const Storyboard& board,
 struct SceneOptions {
   double fps = 25.0;
   std::uint64_t seed = 1;
+
+  // Throws InputError for a frame rate outside (0, 1000]. Scene's constructor calls it.
+  void validate() const;
 };
 
 class Scene {

@@ -101,6 +101,20 @@ TEST(Scene, SpeechOverlappingSpeechIsRefused) {
   }
 }
 
+TEST(Scene, BadFrameRateIsNamed) {
+  const test::Defaults d;
+  Storyboard board;
+  board.duration = 1.0;
+  SceneOptions options;
+  options.fps = 0;
+  try {
+    Scene(board, {}, d.library, d.shapes, d.behaviour, options);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("SceneOptions::fps = 0"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Scene, TwoExpressionsAtOnceShareTheirWeight) {
   const auto dir = test::scratch("scene-two");
   const test::Defaults d;
