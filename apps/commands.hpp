@@ -13,6 +13,7 @@ void add_synth_commands(CLI::App& app);
 void add_play_commands(CLI::App& app);
 void add_track_commands(CLI::App& app);
 void add_speech_commands(CLI::App& app);
+void add_script_commands(CLI::App& app);
 void add_head_commands(CLI::App& app);
 void add_capture_commands(CLI::App& app);
 void add_calibrate_commands(CLI::App& app);

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   rostro::app::add_head_commands(app);
   rostro::app::add_play_commands(app);
   rostro::app::add_speech_commands(app);
+  rostro::app::add_script_commands(app);
   rostro::app::add_synth_commands(app);
   rostro::app::add_eval_commands(app);
   rostro::app::add_fap_commands(app);

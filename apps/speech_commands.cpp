@@ -16,6 +16,7 @@
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
 #include "facecore/fap_io.hpp"
+#include "script/viseme_script.hpp"
 #include "speech/animator.hpp"
 #include "speech/emotion_markup.hpp"
 #include "speech/mouth_cues.hpp"
@@ -36,6 +37,7 @@ struct SpeakArgs {
   std::string cues;
   double cue_fps = 24.0;
   std::string emotion;
+  std::string viseme_script;
   double fps = 25.0;
   int rate = 0;
   unsigned long long seed = 1;
@@ -96,6 +98,8 @@ void speak(const SpeakArgs& a) {
     throw InputError("--wav with --pho needs the speech audio (--audio F)");
   fap_format_for(a.output);  // reject unknown extensions before any work
   if (!a.cues.empty()) speech::cue_format_for(a.cues);
+  if (!a.viseme_script.empty() && a.high_level)
+    throw InputError("--viseme-script does not record --high-level; leave one out");
 
   speech::SpeechRequest request;
   request.language = a.language;
@@ -162,6 +166,11 @@ void speak(const SpeakArgs& a) {
     speech::write_cues(a.cues,
                        speech::mouth_cues(prepared.resolution.phonemes, prepared.duration_s),
                        !a.audio.empty() ? a.audio : a.wav, prepared.duration_s, a.cue_fps);
+  if (!a.viseme_script.empty())
+    script::write_viseme_script(
+        a.viseme_script,
+        script::viseme_script_for(prepared, options, a.language, "rostro speak -o " + a.output,
+                                  !a.wav.empty() ? a.wav : a.audio));
 
   std::printf("%s: %ld frames at %g fps (%.2f s of speech, %zu phonemes, %zu keys, %s)\n",
               a.output.c_str(), animator.frame_count(), a.fps, prepared.duration_s,
@@ -206,6 +215,9 @@ void add_speech_commands(CLI::App& app) {
   cmd->add_option("--cue-fps", args->cue_fps, "Frame rate of .dat mouth cues")
       ->check(CLI::Range(24.0, 100.0))
       ->capture_default_str();
+  cmd->add_option("--viseme-script", args->viseme_script,
+                  "Also write the timed visemes as a storyboard that `rostro script` runs to the "
+                  "same .fap (docs/script.md)");
   cmd->add_option("--fps", args->fps, "Frames per second; frame k is audio time k/fps")
       ->capture_default_str();
   cmd->add_option("--emotion", args->emotion,

@@ -16,6 +16,7 @@ packages=(
   libavformat-dev libavcodec-dev libswresample-dev libavutil-dev
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us
   flite alsa-utils
+  liblua5.4-dev
 )
 
 missing=()

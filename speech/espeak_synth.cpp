@@ -47,8 +47,22 @@ void ensure_initialised() {
   espeak_SetSynthCallback(on_synth);
 }
 
+// Whether some installed voice speaks `language` ("en" also matches "en-us"). Each voice's
+// `languages` is a list of (priority byte, name, NUL), ended by a zero priority byte.
+bool espeak_knows_language(const std::string& language) {
+  for (const espeak_VOICE** v = espeak_ListVoices(nullptr); v && *v; ++v)
+    for (const char* p = (*v)->languages; p && *p;) {
+      const std::string name(p + 1);
+      if (name == language || name.rfind(language + "-", 0) == 0) return true;
+      p += name.size() + 2;
+    }
+  return false;
+}
+
 // Language codes such as "pt-pt" or "en-gb" name no voice file: match on the language.
+// espeak-ng falls back to some voice for any code, so an unknown one is refused first.
 bool set_voice_by_language(const std::string& language) {
+  if (!espeak_knows_language(language)) return false;
   espeak_VOICE wanted{};
   wanted.languages = language.c_str();
   return espeak_SetVoiceByProperties(&wanted) == EE_OK;

@@ -518,6 +518,81 @@ TEST(CliSafety, KilledLiveRecordingIsRecovered) {
                    take, 50);
 }
 
+// Everything after a stream's first line (its name token differs between commands).
+std::string frames_of(const std::filesystem::path& fap) {
+  std::ifstream in(fap);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  return text.substr(text.find('\n') + 1);
+}
+
+TEST(CliScript, ExamplesRun) {
+  const auto dir = scratch("script-examples");
+  for (const char* name : {"greeting", "reaction", "receptionist"}) {
+    const auto fap = dir / (std::string(name) + ".fap");
+    const CliRun run = rostro("script " + std::string(ROSTRO_DATA_DIR) + "/scripts/" + name +
+                              ".lua -o " + fap.string() + " --wav " + (dir / "a.wav").string());
+    EXPECT_EQ(run.exit_code, 0) << name << ": " << run.output;
+    EXPECT_EQ(rostro("fap validate " + fap.string()).exit_code, 0) << name;
+  }
+  const CliRun help = rostro("script --help");
+  EXPECT_NE(help.output.find("rostro script data/scripts/greeting.lua"), std::string::npos);
+}
+
+TEST(CliScript, BadStoryboardsExitOneInOneLineAndWriteNothing) {
+  const auto dir = scratch("script-bad");
+  const std::string speech =
+      "{ at = %, visemes = { {0, 0.2, 'sil'}, {0.2, 0.6, 'aa', 'vowel', word = 0}, "
+      "{0.6, 0.8, 'sil'} } }";
+  const auto utterance = [&](const char* at) {
+    std::string s = speech;
+    return s.replace(s.find('%'), 1, at);
+  };
+  struct Case {
+    std::string body;
+    std::string message;
+  };
+  const Case cases[] = {
+      {"storyboard = {\n  expressions = { {'joy' 1} }\n}\n", "bad.lua:2: "},
+      {"storyboard = { expressions = { {'smug', 1} } }", "unknown expression 'smug'"},
+      {"storyboard = { expressions = { {'joy', -2} } }", "negative duration"},
+      {"storyboard = { head = { {'nod', at = 3}, {'shake', at = 1} } }", "time runs backwards"},
+      {"storyboard = { speech = { " + utterance("0") + ", " + utterance("0.5") + " } }",
+       "speech overlaps speech"},
+      {"\nos.remove('bad.lua')\n", "bad.lua:2: "},
+      {"storyboard = { speech = { text = 'hola', voice = 'no-such-voice' } }", "speech"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(dir / "bad.lua") << c.body;
+    const auto fap = dir / "out.fap";
+    const CliRun run = rostro("script " + (dir / "bad.lua").string() + " -o " + fap.string() +
+                              " --wav " + (dir / "out.wav").string());
+    EXPECT_EQ(run.exit_code, 1) << c.body << ": " << run.output;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+    EXPECT_NE(run.output.find(c.message), std::string::npos) << run.output;
+    EXPECT_FALSE(std::filesystem::exists(fap)) << c.body;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out.wav")) << c.body;
+    EXPECT_TRUE(std::filesystem::exists(dir / "bad.lua"));
+  }
+}
+
+TEST(CliScript, SpeakVisemeScriptReplaysTheSameFrames) {
+  const auto dir = scratch("script-viseme");
+  const CliRun speak = rostro(
+      "speak \"Buenas tardes, {surprise 0.6} ¿qué tal?\" --lang es --fps 30 "
+      "--seed 9 -o " +
+      (dir / "s.fap").string() + " --wav " + (dir / "s.wav").string() + " --viseme-script " +
+      (dir / "s.lua").string());
+  ASSERT_EQ(speak.exit_code, 0) << speak.output;
+  const CliRun again =
+      rostro("script " + (dir / "s.lua").string() + " -o " + (dir / "again.fap").string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  const std::string frames = frames_of(dir / "s.fap");
+  EXPECT_GT(frames.size(), 1000u);
+  EXPECT_EQ(frames, frames_of(dir / "again.fap"));
+}
+
 }  // namespace
 
 namespace {
