@@ -47,25 +47,28 @@ void ensure_initialised() {
   espeak_SetSynthCallback(on_synth);
 }
 
-// Whether some installed voice speaks `language` ("en" also matches "en-us"). Each voice's
-// `languages` is a list of (priority byte, name, NUL), ended by a zero priority byte.
-bool espeak_knows_language(const std::string& language) {
+// The name of an installed voice that speaks `language` ("en" also matches "en-us"), empty
+// when none does. Each voice's `languages` is a list of (priority byte, name, NUL), ended by a
+// zero priority byte.
+std::string voice_speaking(const std::string& language) {
   for (const espeak_VOICE** v = espeak_ListVoices(nullptr); v && *v; ++v)
     for (const char* p = (*v)->languages; p && *p;) {
       const std::string name(p + 1);
-      if (name == language || name.rfind(language + "-", 0) == 0) return true;
+      if (name == language || name.rfind(language + "-", 0) == 0) return (*v)->name;
       p += name.size() + 2;
     }
-  return false;
+  return {};
 }
 
-// Language codes such as "pt-pt" or "en-gb" name no voice file: match on the language.
-// espeak-ng falls back to some voice for any code, so an unknown one is refused first.
-bool set_voice_by_language(const std::string& language) {
-  if (!espeak_knows_language(language)) return false;
-  espeak_VOICE wanted{};
-  wanted.languages = language.c_str();
-  return espeak_SetVoiceByProperties(&wanted) == EE_OK;
+// Language codes such as "pt-pt" or "en-gb" name no voice file: the voice that speaks the
+// language is used, with the variant after '+' if one is given ("pt-pt+f3"). espeak-ng falls
+// back to some voice for any code, so an unknown one is refused first.
+bool set_voice_by_language(const std::string& code) {
+  const auto plus = code.find('+');
+  const std::string voice = voice_speaking(code.substr(0, plus));
+  if (voice.empty()) return false;
+  const std::string named = plus == std::string::npos ? voice : voice + code.substr(plus);
+  return espeak_SetVoiceByName(named.c_str()) == EE_OK;
 }
 
 }  // namespace
