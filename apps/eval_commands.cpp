@@ -27,6 +27,7 @@
 #include "facecore/face_model.hpp"
 #include "facecore/fap_io.hpp"
 #include "mapping/fap_solver.hpp"
+#include "speech/forced_align.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
 #include "tracking/tracks_csv.hpp"
@@ -461,18 +462,20 @@ void eval_alignment(const AlignmentArgs& a) {
   const std::string table = eval::alignment_table(scores);
   std::fputs(table.c_str(), stdout);
   if (!a.markdown.empty()) {
+    const double refused_above = speech::AlignmentOptions().max_match_ratio;
     const std::string body = fmt::format(
         "Written by `rostro eval alignment --markdown` (rostro {}) on {}: recordings with known "
         "phoneme times, aligned to their transcripts by `rostro speak --audio --text` "
-        "(speech/forced_align.hpp). The alignment's reference is espeak-ng's default voice for "
-        "the language at its default rate; no recording below was made by it. Boundaries are "
+        "(speech/forced_align.hpp). The alignment's reference is the language's espeak-ng voice "
+        "at its default rate and pitch, in its male and a female variant (+f3; the one the "
+        "recording matches better is kept): no recording below was made by it. Boundaries are "
         "phoneme starts matched by symbol between the aligned and the true sequence; p/b/m "
         "late: true bilabials whose nearest frame with closed lips (25 fps) is more than one "
         "frame from the phoneme; match ratio: the transcript check of speech/forced_align.hpp "
-        "(refused above 0.85), for the right transcript and for another text in the same "
+        "(refused above {:.2f}), for the right transcript and for another text in the same "
         "language.\n\n{}",
         ROSTRO_VERSION, fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
-        table);
+        refused_above, table);
     eval::replace_markdown_section(a.markdown, "## Speech alignment", body);
     std::printf("table written to %s (section \"Speech alignment\")\n", a.markdown.c_str());
   }

@@ -227,9 +227,20 @@ std::vector<AlignmentCase> default_alignment_cases() {
   };
 }
 
+std::string describe(const AlignmentCase& c) {
+  std::string out = c.synthesiser + " " + c.voice;
+  if (c.rate_wpm > 0) out += fmt::format(", {} wpm", c.rate_wpm);
+  if (c.pitch >= 0) out += fmt::format(", pitch {}", c.pitch);
+  if (c.snr_db > 0) out += fmt::format(", noise {:g} dB SNR", c.snr_db);
+  if (c.sample_rate > 0) out += fmt::format(", {} Hz", c.sample_rate);
+  if (c.repeat > 1) out += fmt::format(", text x{}", c.repeat);
+  return out;
+}
+
 AlignmentScore score_alignment(const AlignmentCase& c, double fps) {
   AlignmentScore score;
   score.name = c.name;
+  score.recording = describe(c);
   if (c.synthesiser == "flite" && !flite_available()) {
     score.skipped = true;
     score.skip_reason = "flite is not installed (Debian package flite)";
@@ -305,16 +316,17 @@ AlignmentScore score_alignment(const AlignmentCase& c, double fps) {
 
 std::string alignment_table(const std::vector<AlignmentScore>& scores) {
   std::string out =
-      "| Recording | Length s | Boundaries | Median ms | p95 ms | Max ms | First 10 s median | "
+      "| Case | Recording | Length s | Boundaries | Median ms | p95 ms | Max ms | First 10 s "
+      "median | "
       "Last 10 s median | p/b/m | Late p/b/m (worst, frames) | Shapes agree | Match ratio | "
-      "Wrong text ratio |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "Wrong text ratio |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::string recognition =
       "| Recording (no transcript, PocketSphinx) | Shapes agree | p/b/m found within 50 ms "
       "|\n|---|---|---|\n";
   std::vector<double> all_medians;
   for (const AlignmentScore& s : scores) {
     if (s.skipped) {
-      out += fmt::format("| {} | skipped: {} ||||||||||||\n", s.name, s.skip_reason);
+      out += fmt::format("| {} | skipped: {} |||||||||||||\n", s.name, s.skip_reason);
       continue;
     }
     if (s.recognised)
@@ -322,11 +334,12 @@ std::string alignment_table(const std::vector<AlignmentScore>& scores) {
           fmt::format("| {} | {:.0f} % | {} of {} |\n", s.name, 100 * s.recognised_shape_agreement,
                       s.recognised_bilabials_found, s.bilabials);
     out += fmt::format(
-        "| {} | {:.1f} | {} | {:.1f} | {:.1f} | {:.0f} | {:.1f} | {:.1f} | {} | {} ({:.1f}) | "
+        "| {} | {} | {:.1f} | {} | {:.1f} | {:.1f} | {:.0f} | {:.1f} | {:.1f} | {} | {} ({:.1f}) | "
         "{:.0f} % | {:.2f} | {:.2f} |\n",
-        s.name, s.duration_s, s.boundary_ms.count, s.boundary_ms.median, s.boundary_ms.p95,
-        s.boundary_ms.max, s.early_median_ms, s.late_median_ms, s.bilabials, s.bilabials_late,
-        s.bilabial_worst_frames, 100 * s.shape_agreement, s.match_ratio, s.wrong_text_ratio);
+        s.name, s.recording, s.duration_s, s.boundary_ms.count, s.boundary_ms.median,
+        s.boundary_ms.p95, s.boundary_ms.max, s.early_median_ms, s.late_median_ms, s.bilabials,
+        s.bilabials_late, s.bilabial_worst_frames, 100 * s.shape_agreement, s.match_ratio,
+        s.wrong_text_ratio);
   }
   out +=
       "\nAims (issue 20): median <= 20 ms, p95 <= 50 ms, every p/b/m closed within one frame "

@@ -30,8 +30,12 @@ struct AlignmentCase {
 // The built-in cases (about 20 s of speech each, one of 60 s).
 std::vector<AlignmentCase> default_alignment_cases();
 
+// "espeak-ng es+f3, 140 wpm, pitch 70, noise 20 dB SNR, 44100 Hz": how the recording was made.
+std::string describe(const AlignmentCase& c);
+
 struct AlignmentScore {
   std::string name;
+  std::string recording;  // describe(case)
   bool skipped = false;
   std::string skip_reason;
   double duration_s = 0.0;
