@@ -24,7 +24,8 @@ std::vector<double> frame_map(const WarpPath& path, int reference_frames) {
   return sum;
 }
 
-// Recording time of reference time `t`, interpolating between frame centres.
+// Recording time of reference time `t`, interpolating between frames. Frame i starts at
+// i x hop in both signals, so the analysis window's own offset cancels.
 double carry(double t, const std::vector<double>& map, double hop_s) {
   const double x = t / hop_s;
   const int last = static_cast<int>(map.size()) - 1;
