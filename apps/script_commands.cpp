@@ -15,6 +15,7 @@
 #include "facecore/fap_io.hpp"
 #include "script/scene.hpp"
 #include "script/storyboard_reader.hpp"
+#include "speech/mouth_cues.hpp"
 
 namespace rostro::app {
 namespace {
@@ -23,6 +24,8 @@ struct ScriptArgs {
   std::string story;
   std::string output;
   std::string wav;
+  std::string cues;
+  double cue_fps = 24.0;
   double fps = 25.0;
   unsigned long long seed = 1;
   bool allow_outside = false;
@@ -49,7 +52,8 @@ void run_script(const ScriptArgs& a, const CLI::App& cmd) {
       !a.output.empty() ? std::filesystem::path(a.output) : board.output;
   if (output.empty())
     throw InputError("no output: give -o OUT.fap (or output = \"x.fap\" in the storyboard)");
-  fap_format_for(output);  // reject an unknown extension before any work
+  fap_format_for(output);  // reject unknown extensions before any work
+  if (!a.cues.empty()) speech::cue_format_for(a.cues);
 
   const auto behaviour = speech::BehaviourSettings::load_default();
   std::vector<std::string> warnings;
@@ -80,6 +84,9 @@ void run_script(const ScriptArgs& a, const CLI::App& cmd) {
   sink->finish();
   progress.finish();
   if (!a.wav.empty()) speech::write_wav(a.wav, scene.audio());
+  if (!a.cues.empty())
+    speech::write_cues(a.cues, speech::mouth_cues(scene.phonemes(), scene.duration_s()), a.wav,
+                       scene.duration_s(), a.cue_fps);
 
   std::printf(
       "%s: %ld frames at %g fps (%.2f s; %zu utterance(s), %zu expression(s), %zu eye and "
@@ -102,6 +109,12 @@ void add_script_commands(CLI::App& app) {
   cmd->add_option("-o,--output", args->output,
                   "Output FAP stream (.fap, .csv or .json); default: the storyboard's output");
   cmd->add_option("--wav", args->wav, "Write the scene's audio here (16-bit PCM WAV)");
+  cmd->add_option("--cues", args->cues,
+                  "Also write the scene's Rhubarb Lip Sync mouth cues here: .tsv, .json, .xml "
+                  "or .dat (docs/speech.md)");
+  cmd->add_option("--cue-fps", args->cue_fps, "Frame rate of .dat mouth cues")
+      ->check(CLI::Range(24.0, 100.0))
+      ->capture_default_str();
   cmd->add_option("--fps", args->fps, "Frames per second (default: the storyboard's fps, or 25)");
   cmd->add_option("--seed", args->seed,
                   "Seed for math.random, blinks, saccades and head noise (default: the "

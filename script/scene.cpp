@@ -216,4 +216,31 @@ speech::Audio Scene::audio() const {
   return out;
 }
 
+std::vector<speech::Phoneme> Scene::phonemes() const {
+  std::vector<speech::Phoneme> out;
+  double t = 0.0;
+  auto silence_until = [&](double end) {
+    if (end <= t) return;
+    speech::Phoneme gap;
+    gap.symbol = "_";
+    gap.cls = speech::PhonemeClass::Silence;
+    gap.start_s = t;
+    gap.end_s = end;
+    out.push_back(gap);
+    t = end;
+  };
+  for (const Utterance& u : utterances_) {
+    const double start = static_cast<double>(u.first_frame) / options_.fps;
+    silence_until(start);
+    for (speech::Phoneme p : u.speech.phonemes) {
+      p.start_s += start;
+      p.end_s += start;
+      out.push_back(p);
+      t = std::max(t, p.end_s);
+    }
+  }
+  silence_until(duration_s_);
+  return out;
+}
+
 }  // namespace rostro::script

@@ -67,6 +67,9 @@ class Scene {
   // The utterances' audio placed at their start times, silence elsewhere, as long as the
   // scene (22050 Hz when no utterance has a sound).
   speech::Audio audio() const;
+  // Every utterance's phonemes in scene time, with silences between and after them: what the
+  // mouth says over the whole scene (for mouth cues).
+  std::vector<speech::Phoneme> phonemes() const;
 
   struct Utterance {
     ResolvedSpeech speech;

@@ -126,6 +126,30 @@ TEST(Scene, RecordingWithItsTextIsAligned) {
   EXPECT_GE(closed, 2);  // b of buenos, m of mamá
 }
 
+// The whole scene's phonemes (for mouth cues): each utterance at its start, silence between
+// and after, contiguous from 0 to the scene's end.
+TEST(Scene, PhonemesCoverTheSceneWithSilenceBetweenUtterances) {
+  const auto dir = test::scratch("scene-phonemes");
+  const test::Defaults d;
+  const auto story =
+      test::write(dir / "two.lua", "storyboard = { duration = 3, speech = { " + viseme_item(0) +
+                                       ", " + viseme_item(1.2) + " } }\n");
+  const auto scene = d.scene(story);
+  const auto phonemes = scene->phonemes();
+  ASSERT_FALSE(phonemes.empty());
+  EXPECT_DOUBLE_EQ(phonemes.front().start_s, 0.0);
+  EXPECT_DOUBLE_EQ(phonemes.back().end_s, scene->duration_s());
+  for (std::size_t k = 1; k < phonemes.size(); ++k)
+    EXPECT_NEAR(phonemes[k].start_s, phonemes[k - 1].end_s, 1e-9) << k;
+  int vowels = 0;
+  for (const auto& p : phonemes) {
+    if (p.cls != speech::PhonemeClass::Vowel) continue;
+    ++vowels;
+    EXPECT_TRUE(std::abs(p.start_s - 0.2) < 1e-9 || std::abs(p.start_s - 1.4) < 1e-9) << p.start_s;
+  }
+  EXPECT_EQ(vowels, 2);
+}
+
 TEST(Scene, BadFrameRateIsNamed) {
   const test::Defaults d;
   Storyboard board;
