@@ -256,6 +256,7 @@ AlignmentScore score_alignment(const AlignmentCase& c, double fps) {
   options.max_match_ratio = std::numeric_limits<double>::infinity();
   const speech::Alignment aligned = speech::align_transcript(rec.audio, text, options);
   score.match_ratio = aligned.match_ratio;
+  for (const auto& [from, to] : aligned.uncovered_speech) score.uncovered_s += to - from;
   const auto wrong =
       speech::align_transcript(rec.audio, repeated(wrong_text_for(c.language), c.repeat), options);
   score.wrong_text_ratio = wrong.match_ratio;
@@ -319,14 +320,15 @@ std::string alignment_table(const std::vector<AlignmentScore>& scores) {
       "| Case | Recording | Length s | Boundaries | Median ms | p95 ms | Max ms | First 10 s "
       "median | "
       "Last 10 s median | p/b/m | Late p/b/m (worst, frames) | Shapes agree | Match ratio | "
-      "Wrong text ratio |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "Wrong text ratio | Uncovered s "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::string recognition =
       "| Recording (no transcript, PocketSphinx) | Shapes agree | p/b/m found within 50 ms "
       "|\n|---|---|---|\n";
   std::vector<double> all_medians;
   for (const AlignmentScore& s : scores) {
     if (s.skipped) {
-      out += fmt::format("| {} | skipped: {} |||||||||||||\n", s.name, s.skip_reason);
+      out += fmt::format("| {} | skipped: {} ||||||||||||||\n", s.name, s.skip_reason);
       continue;
     }
     if (s.recognised)
@@ -335,11 +337,11 @@ std::string alignment_table(const std::vector<AlignmentScore>& scores) {
                       s.recognised_bilabials_found, s.bilabials);
     out += fmt::format(
         "| {} | {} | {:.1f} | {} | {:.1f} | {:.1f} | {:.0f} | {:.1f} | {:.1f} | {} | {} ({:.1f}) | "
-        "{:.0f} % | {:.2f} | {:.2f} |\n",
+        "{:.0f} % | {:.2f} | {:.2f} | {:.2f} |\n",
         s.name, s.recording, s.duration_s, s.boundary_ms.count, s.boundary_ms.median,
         s.boundary_ms.p95, s.boundary_ms.max, s.early_median_ms, s.late_median_ms, s.bilabials,
         s.bilabials_late, s.bilabial_worst_frames, 100 * s.shape_agreement, s.match_ratio,
-        s.wrong_text_ratio);
+        s.wrong_text_ratio, s.uncovered_s);
   }
   out +=
       "\nAims (issue 20): median <= 20 ms, p95 <= 50 ms, every p/b/m closed within one frame "

@@ -47,6 +47,7 @@ struct AlignmentScore {
   int bilabials_late = 0;      // whose nearest closed-lips frame is more than one frame away
   double bilabial_worst_frames = 0;
   double wrong_text_ratio = 0;  // the same recording checked against another transcript
+  double uncovered_s = 0;       // speech the alignment reports as not in the transcript
   double shape_agreement = 0;   // share of 10 ms steps whose Rhubarb mouth shape is the truth's
   // English only: PocketSphinx phone recognition of the same recording, with no transcript.
   bool recognised = false;

@@ -63,6 +63,36 @@ std::vector<bool> voice_activity(const std::vector<float>& energy_db) {
   return voiced;
 }
 
+bool is_pause(const RawPhoneme& p) {
+  return !p.symbol.empty() && p.symbol[0] == '_';
+}
+
+// Runs of voiced frames that fall inside the aligned pauses, joined across gaps shorter than
+// `gap_s`, kept when their voiced frames add up to `min_s`.
+std::vector<std::pair<double, double>> uncovered_speech(const std::vector<RawPhoneme>& aligned,
+                                                        const std::vector<bool>& voiced,
+                                                        double hop_s, double min_s, double gap_s) {
+  std::vector<std::pair<double, double>> out;
+  double start = -1.0, last = -1.0, voiced_s = 0.0;
+  auto close = [&] {
+    if (start >= 0.0 && voiced_s >= min_s) out.emplace_back(start, last + hop_s);
+    start = -1.0;
+    voiced_s = 0.0;
+  };
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < voiced.size(); ++j) {
+    const double t = static_cast<double>(j) * hop_s;
+    while (k + 1 < aligned.size() && aligned[k].end_s <= t) ++k;
+    if (!voiced[j] || !is_pause(aligned[k])) continue;
+    if (start >= 0.0 && t - last > gap_s) close();
+    if (start < 0.0) start = t;
+    last = t;
+    voiced_s += hop_s;
+  }
+  close();
+  return out;
+}
+
 Features reversed(const Features& f) {
   Features out = f;
   for (int i = 0; i < f.frames; ++i)
@@ -96,7 +126,7 @@ Alignment align_reference(const Audio& recording, const Audio& reference,
   if (out.match_ratio > options.max_match_ratio)
     throw InputError(fmt::format(
         "the recording does not match the transcript (match ratio {:.2f}, above {:.2f}; "
-        "readings of the right text measure 0.2-0.9): check the text and --lang",
+        "readings of the right text measure 0.2-0.8): check the text and --lang",
         out.match_ratio, options.max_match_ratio));
 
   const std::vector<double> map = frame_map(path, a.frames);
@@ -112,6 +142,8 @@ Alignment align_reference(const Audio& recording, const Audio& reference,
     out.phonemes.insert(out.phonemes.begin(), {"_", 0.0, 0.0, -1});
   for (std::size_t k = 0; k < out.phonemes.size(); ++k)
     out.phonemes[k].end_s = k + 1 < out.phonemes.size() ? out.phonemes[k + 1].start_s : end;
+  out.uncovered_speech = uncovered_speech(out.phonemes, speech, b.hop_s, options.uncovered_min_s,
+                                          options.uncovered_gap_s);
   return out;
 }
 
@@ -132,8 +164,20 @@ Synthesis padded(Synthesis s, double pad_s) {
   return s;
 }
 
+// Seconds from the first voiced analysis frame to the last.
+double voiced_span_s(const Audio& audio, const MfccOptions& features) {
+  const std::vector<bool> voiced = voice_activity(frame_energy_db(audio, features));
+  const auto first = std::find(voiced.begin(), voiced.end(), true);
+  const auto last = std::find(voiced.rbegin(), voiced.rend(), true);
+  if (first == voiced.end()) return 0.0;
+  return static_cast<double>((voiced.rend() - last) - (first - voiced.begin())) * features.hop_s;
+}
+
+constexpr int kDefaultRateWpm = 175;  // espeak-ng's
+
 Alignment align_transcript(const Audio& recording, const std::string& clean_text,
                            const AlignmentOptions& options) {
+  const double recording_span = voiced_span_s(recording, options.features);
   std::optional<Alignment> best;
   std::optional<InputError> refusal;
   const bool has_variant = options.reference.voice.find('+') != std::string::npos;
@@ -141,7 +185,20 @@ Alignment align_transcript(const Audio& recording, const std::string& clean_text
     if (has_variant && !variant.empty()) continue;  // a variant the user chose is kept
     SynthOptions voice = options.reference;
     voice.voice += variant;
-    const Synthesis reference = padded(synthesize(clean_text, voice), options.reference_pad_s);
+    Synthesis said = synthesize(clean_text, voice);
+    // A reading much slower or faster than espeak-ng's is said again at the reading's pace,
+    // so the warping has less to stretch (each stretch step pays the penalty).
+    const double said_span = voiced_span_s(said.audio, options.features);
+    if (options.match_tempo && options.reference.rate_wpm == 0 && said_span > 0 &&
+        recording_span > 0) {
+      const double tempo = said_span / recording_span;
+      if (tempo < 0.85 || tempo > 1.18) {
+        voice.rate_wpm =
+            std::clamp(static_cast<int>(std::lround(kDefaultRateWpm * tempo)), 80, 450);
+        said = synthesize(clean_text, voice);
+      }
+    }
+    const Synthesis reference = padded(std::move(said), options.reference_pad_s);
     try {
       Alignment a = align_reference(recording, reference.audio, reference.phonemes, options);
       a.reference_voice = voice.voice;

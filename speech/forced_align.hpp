@@ -23,23 +23,32 @@ struct AlignmentOptions {
   // variant ("en-us+m3") is used alone.
   std::vector<std::string> voice_variants = {"", "+f3"};
   double reference_pad_s = 0.3;  // silence added before and after the reference
+  // Say the reference again at the recording's pace when its voiced span is more than about
+  // 15 % longer or shorter (only when `reference.rate_wpm` is 0, espeak-ng's default).
+  bool match_tempo = true;
   MfccOptions features;
   WarpOptions warping;
   // The transcript check: matched speech frames must lie closer than this share of their
   // distance to the reference played backwards (same voice, same sounds, wrong order).
-  // Readings of the right text measured 0.21-0.77 (other synthetic voices) and 0.72-0.88
-  // (eight short real recordings); noise 0.94-0.97; another text 0.80-0.92. Above this
-  // the alignment is refused, above `doubtful_match_ratio` kept with a warning: a
-  // recording with no speech in it is caught, a wrong transcript only when far off
-  // (docs/speech.md).
+  // Readings of the right text measured 0.16-0.75 (other synthetic voices) and 0.67-0.82
+  // (eight short real recordings); another text 0.78-0.89. Above this the alignment is
+  // refused, above `doubtful_match_ratio` kept with a warning: a wrong transcript is caught
+  // only when far off (docs/speech.md); recordings with no speech are refused before.
   double max_match_ratio = 0.93;
   double doubtful_match_ratio = 0.85;
+  // Voiced frames inside an aligned pause that add up to this much (runs closer than
+  // `uncovered_gap_s` joined) are reported as speech the transcript does not cover.
+  double uncovered_min_s = 0.3;
+  double uncovered_gap_s = 0.15;
 };
 
 struct Alignment {
   std::vector<RawPhoneme> phonemes;  // in recording time, contiguous, from 0 to its end
   double match_ratio = 0.0;          // see AlignmentOptions::max_match_ratio
   std::string reference_voice;       // the voice (with variant) the recording matched best
+  // Spans of the recording (start, end s) where it speaks but the alignment put a pause:
+  // words the transcript leaves out, most likely.
+  std::vector<std::pair<double, double>> uncovered_speech;
 };
 
 // Throws InputError for a recording that matches none of the references. A recording with

@@ -93,10 +93,15 @@ PreparedSpeech prepare_speech(const SpeechRequest& request, double default_ramp_
       align.reference = synth;
       Alignment aligned = align_transcript(out.audio, marked.clean, align);
       out.match_ratio = aligned.match_ratio;
+      for (const auto& [from, to] : aligned.uncovered_speech)
+        out.warnings.push_back(fmt::format(
+            "{}: speech at {:.2f}-{:.2f} s that the transcript does not cover (a missing "
+            "word or line?); the mouth rests there",
+            request.audio.string(), from, to));
       if (aligned.match_ratio > align.doubtful_match_ratio)
         out.warnings.push_back(fmt::format(
             "the recording may not say the transcript (match ratio {:.2f}; readings of the "
-            "right text measure 0.2-0.9, of another text 0.8-0.92): check the text and --lang",
+            "right text measure 0.2-0.8, of another text 0.8-0.9): check the text and --lang",
             aligned.match_ratio));
       out.voice = aligned.reference_voice;
       out.raw = std::move(aligned.phonemes);

@@ -168,6 +168,33 @@ TEST(ForcedAlignment, AnotherLanguageStandsOut) {
   EXPECT_GT(wrong, right + 0.3);
 }
 
+// A transcript that leaves a line out: the recording's speech there is reported, and a
+// complete transcript reports none.
+TEST(ForcedAlignment, SpeechTheTranscriptLeavesOutIsReported) {
+  const std::string extra = " Después fuimos al mercado a comprar fruta.";
+  const Synthesis recording = say(std::string(kSpanish) + extra, "es+f3", 150);
+  // Where the extra sentence starts: its first phoneme (text positions count code points).
+  const std::string first(kSpanish);
+  const auto code_points =
+      std::count_if(first.begin(), first.end(), [](char c) { return (c & 0xC0) != 0x80; });
+  double extra_start = 0.0;
+  for (const RawPhoneme& p : recording.phonemes)
+    if (p.text_position >= code_points) {
+      extra_start = p.start_s;
+      break;
+    }
+  ASSERT_GT(extra_start, 5.0);
+  const Alignment short_text = align_transcript(recording.audio, kSpanish, reference("es"));
+  ASSERT_EQ(short_text.uncovered_speech.size(), 1u);
+  // The neighbouring word stretches over part of the missing one: the span starts within
+  // half a second of it.
+  EXPECT_NEAR(short_text.uncovered_speech[0].first, extra_start, 0.5);
+  EXPECT_GT(short_text.uncovered_speech[0].second - short_text.uncovered_speech[0].first, 1.0);
+  const Alignment whole =
+      align_transcript(recording.audio, std::string(kSpanish) + extra, reference("es"));
+  EXPECT_TRUE(whole.uncovered_speech.empty());
+}
+
 TEST(ForcedAlignment, RealVoicesPass) {
   if (!std::filesystem::exists(kAlsaSounds / "Front_Left.wav"))
     GTEST_SKIP() << kAlsaSounds << " is absent (Debian package alsa-utils)";
@@ -185,10 +212,21 @@ TEST(ForcedAlignment, RealVoicesPass) {
     padded.samples.insert(padded.samples.end(), voice.samples.begin(), voice.samples.end());
     const Alignment a = align_transcript(padded, text, reference("en-us"));
     EXPECT_LT(a.match_ratio, reference("en-us").max_match_ratio) << file;
+    EXPECT_TRUE(a.uncovered_speech.empty())
+        << file << " " << (a.uncovered_speech.empty() ? 0 : a.uncovered_speech[0].first) << "-"
+        << (a.uncovered_speech.empty() ? 0 : a.uncovered_speech[0].second) << " voice "
+        << a.reference_voice;
     const auto first = std::find_if(a.phonemes.begin(), a.phonemes.end(),
                                     [](const RawPhoneme& p) { return p.symbol[0] != '_'; });
     ASSERT_NE(first, a.phonemes.end());
-    EXPECT_NEAR(first->start_s, 0.5, 0.1) << file;
+    // The voice's onset: its first sample above a tenth of its peak.
+    int peak = 0;
+    for (auto v : voice.samples) peak = std::max(peak, std::abs(static_cast<int>(v)));
+    const auto onset = std::find_if(voice.samples.begin(), voice.samples.end(),
+                                    [&](std::int16_t v) { return std::abs(v) * 10 > peak; });
+    const double onset_s = static_cast<double>(onset - voice.samples.begin()) / voice.sample_rate;
+    // (An f fading in from room noise moves its start by about 0.1 s either way.)
+    EXPECT_NEAR(first->start_s, 0.5 + onset_s, 0.15) << file;
   }
 }
 
