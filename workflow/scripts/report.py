@@ -85,7 +85,7 @@ def markdown(takes, rows, manifest):
         f"{capture_s:.1f} s of capture time.",
         "",
         "Frames per second of each capture: report-fps.png. Columns: docs/shoot.md, "
-        "\"The report\".",
+        "\"The checks and the report\".",
         "",
         "| take | actor | status | frames | dropped | lost markers | identification | "
         "FAPs (widest range) | capture s | fps | MB | flags |",
