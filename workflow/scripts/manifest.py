@@ -142,7 +142,7 @@ def read(path):
     return takes
 
 
-def actors(takes):
+def actors(takes, path="manifest"):
     """Each actor once, as a dict name -> Actor; rows of one actor must agree."""
     found = {}
     for t in takes.values():
@@ -154,7 +154,7 @@ def actors(takes):
         for c in ("layout", "camera", "neutral"):
             if getattr(first, c) != getattr(a, c):
                 raise ManifestError(
-                    f"line {t.line}, column '{c}': actor '{t.actor}' has "
+                    f"{path}: line {t.line}, column '{c}': actor '{t.actor}' has "
                     f"'{getattr(a, c) or '(empty)'}' here but '{getattr(first, c) or '(empty)'}' "
                     f"on line {first.line}; an actor is calibrated once, so every row of an "
                     "actor gives the same layout, camera and neutral")
