@@ -18,5 +18,6 @@ void add_head_commands(CLI::App& app);
 void add_capture_commands(CLI::App& app);
 void add_calibrate_commands(CLI::App& app);
 void add_live_commands(CLI::App& app);
+void add_shoot_commands(CLI::App& app);
 
 }  // namespace rostro::app

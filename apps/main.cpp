@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   rostro::app::add_track_commands(app);
   rostro::app::add_calibrate_commands(app);
   rostro::app::add_capture_commands(app);
+  rostro::app::add_shoot_commands(app);
   rostro::app::add_live_commands(app);
   rostro::app::add_head_commands(app);
   rostro::app::add_play_commands(app);

@@ -17,6 +17,8 @@ packages=(
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us
   flite alsa-utils
   liblua5.4-dev
+  # the shoot workflow (workflow/, `rostro shoot`) and its report's plot
+  snakemake python3-matplotlib
 )
 
 missing=()
