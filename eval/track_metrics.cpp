@@ -4,9 +4,11 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <unordered_map>
 
 #include "facecore/error.hpp"
+#include "facecore/feature_point.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -20,12 +22,18 @@ std::string match_key(const MarkerObservation& m, MatchBy match) {
   return match == MatchBy::Marker ? m.marker : m.feature_point.str();
 }
 
+// Markers with no feature point (a headband's tags) cannot be matched by one: left out.
+bool matchable(const MarkerObservation& m, MatchBy match) {
+  return match == MatchBy::Marker || is_feature_point(m.feature_point);
+}
+
 // The observations of one frame by match key; repeated keys are an input error.
 std::unordered_map<std::string, const MarkerObservation*> index_frame(const TrackedFrame& f,
                                                                       MatchBy match,
                                                                       const char* side) {
   std::unordered_map<std::string, const MarkerObservation*> index;
   for (const MarkerObservation& m : f.markers) {
+    if (!matchable(m, match)) continue;
     auto [it, added] = index.emplace(match_key(m, match), &m);
     if (!added)
       throw InputError(std::string(side) + " frame " + std::to_string(f.frame) + ": " +
@@ -54,6 +62,39 @@ std::optional<double> frame_norm_distance(const TrackedFrame& f, const TrackEval
   return d;
 }
 
+std::set<std::string> match_keys(std::span<const TrackedFrame> frames, MatchBy match) {
+  std::set<std::string> keys;
+  for (const TrackedFrame& f : frames)
+    for (const MarkerObservation& m : f.markers)
+      if (matchable(m, match)) keys.insert(match_key(m, match));
+  return keys;
+}
+
+// Two files that share no marker would score as all lost: an error naming a few of each
+// side's markers instead, so the user sees why.
+void require_common_markers(std::span<const TrackedFrame> truth,
+                            std::span<const TrackedFrame> estimate, MatchBy match) {
+  const auto truth_keys = match_keys(truth, match);
+  const auto estimate_keys = match_keys(estimate, match);
+  for (const std::string& k : estimate_keys)
+    if (truth_keys.contains(k)) return;
+  auto some = [](const std::set<std::string>& keys) {
+    std::string list;
+    int shown = 0;
+    for (const std::string& k : keys) {
+      if (shown++ == 4) return list + ", ...";
+      list += (list.empty() ? "'" : ", '") + k + "'";
+    }
+    return list.empty() ? std::string("none") : list;
+  };
+  const bool by_marker = match == MatchBy::Marker;
+  throw InputError(
+      std::string("the estimate and the truth share no ") +
+      (by_marker ? "marker id" : "feature point") + " (truth: " + some(truth_keys) +
+      "; estimate: " + some(estimate_keys) + "); " +
+      (by_marker ? "--match fp matches by feature point" : "--match marker matches by marker id"));
+}
+
 struct MarkerAccumulator {
   std::size_t order = 0;
   FeaturePointId feature_point;
@@ -72,6 +113,7 @@ TrackEvalResult evaluate_tracks(std::span<const TrackedFrame> truth,
                                 const TrackEvalOptions& options) {
   TrackEvalResult r;
   r.options = options;
+  if (!estimate.empty()) require_common_markers(truth, estimate, options.match);
   r.truth_frames = static_cast<long>(truth.size());
   r.estimate_frames = static_cast<long>(estimate.size());
 
@@ -108,6 +150,7 @@ TrackEvalResult evaluate_tracks(std::span<const TrackedFrame> truth,
     const auto truth_index = index_frame(t, options.match, "truth");
     std::vector<const MarkerObservation*> visible;
     for (const MarkerObservation& m : t.markers) {
+      if (!matchable(m, options.match)) continue;
       auto& acc = per_marker[match_key(m, options.match)];
       if (acc.errors_px.empty() && acc.lost == 0 && acc.order == 0) {
         acc.order = per_marker.size();

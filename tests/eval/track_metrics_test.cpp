@@ -159,12 +159,31 @@ TEST(TrackMetrics, MatchingByFeaturePoint) {
   auto est = truth;
   for (auto& f : est)
     for (auto& m : f.markers) m.marker = "other_" + m.marker;
-  EXPECT_EQ(evaluate_tracks(truth, est).lost_observations, 8);
+  // By marker id the two share nothing: an error, not a score of everything lost.
+  EXPECT_THROW(evaluate_tracks(truth, est), InputError);
   TrackEvalOptions o;
   o.match = MatchBy::FeaturePoint;
   const TrackEvalResult r = evaluate_tracks(truth, est, o);
   EXPECT_EQ(r.lost_observations, 0);
   EXPECT_EQ(r.scored_observations, 8);
+}
+
+TEST(TrackMetrics, MarkersWithoutAFeaturePointAreLeftOutOfFeaturePointMatching) {
+  auto truth = truth_sequence(2);
+  auto est = truth;
+  for (auto& f : est)
+    for (const char* tag : {"tag36h11:0", "tag36h11:1"}) {
+      MarkerObservation t;  // a headband tag: no feature point
+      t.marker = tag;
+      t.position = {300, 50};
+      t.valid = true;
+      f.markers.push_back(t);
+    }
+  TrackEvalOptions o;
+  o.match = MatchBy::FeaturePoint;
+  const TrackEvalResult r = evaluate_tracks(truth, est, o);
+  EXPECT_EQ(r.scored_observations, 8);
+  EXPECT_EQ(r.markers.size(), 4u);
 }
 
 TEST(TrackMetrics, BadInputIsAnInputError) {
