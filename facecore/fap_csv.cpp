@@ -189,7 +189,8 @@ class CsvSink final : public FapSink {
     for (int x : {v.select1, v.select2, v.blend, v.def}) cell(viseme, x);
     for (int x : {e.select1, e.intensity1, e.select2, e.intensity2, e.init_face, e.def})
       cell(expression, x);
-    for (int id = 3; id <= kFapCount; ++id) cell(frame.has(id), frame.get(id));
+    // FAPs are integers in the standard; every writer quantises alike.
+    for (int id = 3; id <= kFapCount; ++id) cell(frame.has(id), std::round(frame.get(id)));
     row_ += '\n';
     file_.write(row_);
     ++written_;

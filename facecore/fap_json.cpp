@@ -122,7 +122,8 @@ class JsonSink final : public FapSink {
     json f = {{"frame", frame.index}, {"time_s", frame.time_s}};
     json faps = json::object();
     for (int id = 3; id <= kFapCount; ++id)
-      if (frame.has(id)) faps[std::string(fap_info(id).name)] = frame.get(id);
+      if (frame.has(id))  // integers, as every writer quantises
+        faps[std::string(fap_info(id).name)] = std::llround(frame.get(id));
     f["faps"] = std::move(faps);
     if (frame.has(kVisemeFap)) {
       const VisemeParams& v = frame.viseme;

@@ -51,6 +51,24 @@ TEST(FapConvert, JsonNamesFapsAndCountsFrames) {
   EXPECT_FALSE(doc["frames"][0]["faps"].contains("thrust_jaw"));
 }
 
+TEST(FapConvert, CsvAndJsonQuantiseFapsToIntegersAsTheFapFileDoes) {
+  const auto dir = test::scratch_dir("fap-quantise");
+  FapStream s = two_frames();
+  s.frames[0].set(3, 202.12499999999997);
+  s.frames[0].set(31, -20.5);  // halves round away from zero, as std::lround in the .fap
+  write_fap_stream(dir / "q.csv", s);
+  write_fap_stream(dir / "q.json", s);
+  write_fap_stream(dir / "q.fap", s);
+  for (const char* name : {"q.csv", "q.json", "q.fap"}) {
+    const FapStream back = read_fap_stream(dir / name);
+    EXPECT_EQ(back.frames[0].get(3), 202) << name;
+    EXPECT_EQ(back.frames[0].get(31), -21) << name;
+  }
+  std::ifstream in(dir / "q.csv");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.find("202.1"), std::string::npos);
+}
+
 TEST(FapConvert, MalformedCsvAndJsonAreNamed) {
   const auto dir = test::scratch_dir("fap-bad-conv");
   const auto csv = test::write_text(dir / "bad.csv", "frame,time_s\n0,0\n");

@@ -169,7 +169,7 @@ TEST(FapSafety, CsvAndJsonReadersRejectNumbersOutsideTheirMeaning) {
   EXPECT_NE(e.find("'intensity1'"), std::string::npos) << e;
   EXPECT_NE(e.find("3000000000"), std::string::npos) << e;
   bad = json;
-  bad.replace(bad.find("\"open_jaw\":5.0"), 14, "\"open_jaw\":\"wide\"");
+  bad.replace(bad.find("\"open_jaw\":5"), 12, "\"open_jaw\":\"wide\"");
   e = error_of(bad, FapFormat::Json);
   EXPECT_NE(e.find("'open_jaw' should be a number"), std::string::npos) << e;
   EXPECT_EQ(e.find("json.exception"), std::string::npos) << e;
