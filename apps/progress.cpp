@@ -5,12 +5,20 @@
 #include <cstdio>
 
 namespace rostro::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr auto kBarInterval = std::chrono::milliseconds(200);
+constexpr auto kLogInterval = std::chrono::seconds(5);
+
+}  // namespace
 
 Progress::Progress(std::string label, long total)
     : label_(std::move(label)),
       total_(total),
-      enabled_(isatty(STDERR_FILENO) == 1),
-      start_(std::chrono::steady_clock::now()) {}
+      terminal_(isatty(STDERR_FILENO) == 1),
+      start_(Clock::now()),
+      last_draw_(start_) {}
 
 Progress::~Progress() {
   finish();
@@ -18,24 +26,28 @@ Progress::~Progress() {
 
 void Progress::update(long done) {
   done_ = done;
-  if (!enabled_) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_draw_ < std::chrono::milliseconds(200)) return;
+  const auto now = Clock::now();
+  if (now - last_draw_ < (terminal_ ? kBarInterval : kLogInterval)) return;
   last_draw_ = now;
-  draw();
+  if (terminal_)
+    draw_bar();
+  else
+    log_line();
 }
 
 void Progress::finish() {
   if (finished_) return;
   finished_ = true;
-  if (!enabled_) return;
-  draw();
-  std::fputc('\n', stderr);
+  if (terminal_) {
+    draw_bar();
+    std::fputc('\n', stderr);
+  } else if (logged_) {
+    log_line();  // the end, after the lines that said it was under way
+  }
 }
 
-void Progress::draw() {
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+void Progress::draw_bar() {
+  const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
   if (total_ > 0) {
     const double share = static_cast<double>(done_) / static_cast<double>(total_);
     constexpr int kWidth = 30;
@@ -47,6 +59,17 @@ void Progress::draw() {
   } else {
     std::fprintf(stderr, "\r%s %ld %.1fs", label_.c_str(), done_, elapsed);
   }
+  std::fflush(stderr);
+}
+
+void Progress::log_line() {
+  logged_ = true;
+  const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+  if (total_ > 0)
+    std::fprintf(stderr, "%s: %ld/%ld (%.0f%%) after %.0f s\n", label_.c_str(), done_, total_,
+                 100.0 * static_cast<double>(done_) / static_cast<double>(total_), elapsed);
+  else
+    std::fprintf(stderr, "%s: %ld after %.0f s\n", label_.c_str(), done_, elapsed);
   std::fflush(stderr);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// A one-line progress bar on stderr for long offline work. It draws only when stderr is a
-// terminal (logs and CI stay clean) and at most a few times a second.
+// Progress of long offline work on stderr. On a terminal: a one-line bar redrawn at most a
+// few times a second. Redirected (a log, CI, a workflow): a plain line every few seconds, so
+// a long run shows it is alive, and nothing at all for work shorter than that.
 
 #include <chrono>
 #include <string>
@@ -19,11 +20,13 @@ class Progress {
   std::string label_;
   long total_;
   long done_ = 0;
-  bool enabled_;
+  bool terminal_;
   bool finished_ = false;
+  bool logged_ = false;  // a plain line was printed (not a terminal)
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_draw_;
-  void draw();
+  void draw_bar();
+  void log_line();
 };
 
 }  // namespace rostro::app
