@@ -14,6 +14,7 @@
 #include "calib/actor_prior.hpp"
 #include "calib/camera_intrinsics.hpp"
 #include "calib/chessboard_calibration.hpp"
+#include "calib/neutral_motion.hpp"
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
 #include "tracking/layout.hpp"
@@ -59,6 +60,7 @@ struct ActorArgs {
 };
 
 void run_calibrate_actor(const ActorArgs& a) {
+  check_not_an_input(a.output, "-o", {a.source, a.camera});
   check_seconds(a.seconds, "--seconds");
   const std::unique_ptr<tracking::FaceTracker> tracker = a.face.make();
   const tracking::MarkerLayout& layout = tracker->layout();
@@ -86,8 +88,16 @@ void run_calibrate_actor(const ActorArgs& a) {
                       : a.face.markerless ? ": no face found in the first "
                                           : ": no markers identified in the first ") +
                      (read == 0 ? "" : std::to_string(read) + " frames"));
+  std::string camera_note;
   const calib::CameraIntrinsics camera =
-      a.camera.empty() ? calib::default_intrinsics(size) : calib::read_intrinsics(a.camera);
+      a.camera.empty() ? calib::default_intrinsics(size)
+                       : calib::intrinsics_for_frames(calib::read_intrinsics(a.camera), size,
+                                                      a.camera, &camera_note);
+  if (!camera_note.empty()) std::fprintf(stderr, "rostro calibrate: %s\n", camera_note.c_str());
+  if (const std::string moving =
+          calib::neutral_motion_warning(calib::measure_neutral_motion(frames));
+      !moving.empty())
+    std::fprintf(stderr, "rostro calibrate: warning: %s\n", moving.c_str());
   const calib::ActorPrior prior = calib::load_actor_prior();
   const auto profile = calib::calibrate_actor(
       frames, camera, calib::actor_calibration_options(layout, prior, a.name));

@@ -16,6 +16,7 @@
 #include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
 #include "calib/camera_intrinsics.hpp"
+#include "calib/neutral_motion.hpp"
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
@@ -133,6 +134,9 @@ std::filesystem::path partial_name(const std::string& output) {
 
 void run_capture(const CaptureArgs& a) {
   check_seconds(a.calibration_seconds, "--calibration-seconds");
+  for (const auto& [out, option] :
+       {std::pair{a.output, "-o"}, {a.tracks, "--tracks"}, {a.preview, "--preview"}})
+    check_not_an_input(out, option, {a.source, a.actor, a.camera});
   TrackedInput input(a);
   const tracking::MarkerLayout& layout = input.layout();
   mapping::MapperOptions options;
@@ -146,9 +150,14 @@ void run_capture(const CaptureArgs& a) {
   std::optional<calib::ActorProfile> profile;
   if (!a.actor.empty()) profile = calib::read_actor_profile(a.actor);
   // --camera wins; else the profile's own intrinsics; else the documented default.
-  const calib::CameraIntrinsics camera = !a.camera.empty() ? calib::read_intrinsics(a.camera)
-                                         : profile         ? profile->camera
-                                                   : calib::default_intrinsics(input.size());
+  std::string camera_note;
+  const calib::CameraIntrinsics camera =
+      !a.camera.empty() ? calib::intrinsics_for_frames(calib::read_intrinsics(a.camera),
+                                                       input.size(), a.camera, &camera_note)
+      : profile ? calib::intrinsics_for_frames(profile->camera, input.size(), a.actor + "'s camera",
+                                               &camera_note)
+                : calib::default_intrinsics(input.size());
+  if (!camera_note.empty()) std::fprintf(stderr, "rostro capture: %s\n", camera_note.c_str());
   const long calibration_frames =
       std::max(1L, static_cast<long>(a.calibration_seconds * input.fps() + 0.5));
   // The fit runs on a second core, a frame or a few behind the tracking: push() hands back
@@ -179,6 +188,9 @@ void run_capture(const CaptureArgs& a) {
                    "frames (%.1f s), assumed neutral%s\n",
                    take.calibration_frames_used(), a.calibration_seconds,
                    a.camera.empty() ? ", with default camera intrinsics" : "");
+      if (const std::string moving = calib::neutral_motion_warning(take.calibration_motion());
+          !moving.empty())
+        std::fprintf(stderr, "rostro capture: warning: %s\n", moving.c_str());
     }
     for (const FapFrame& faps : ready) {
       sink->write(faps);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "facecore/error.hpp"
 #include "facecore/fap_frame.hpp"
@@ -18,6 +19,21 @@ void check_seconds(double seconds, const std::string& option, double max) {
   if (!(seconds > 0.0 && seconds <= max))
     throw InputError(
         fmt::format("{} {}: expected a duration in (0, {}] seconds", option, seconds, max));
+}
+
+void check_not_an_input(const std::string& output, const std::string& option,
+                        std::initializer_list<std::string> inputs) {
+  if (output.empty()) return;
+  std::error_code ec;
+  const auto out = std::filesystem::weakly_canonical(output, ec);
+  if (ec) return;  // an unreadable path: the write itself will say what is wrong
+  for (const std::string& input : inputs) {
+    if (input.empty()) continue;
+    const auto in = std::filesystem::weakly_canonical(input, ec);
+    if (!ec && in == out)
+      throw InputError(
+          fmt::format("{} {}: that is an input of this command; write elsewhere", option, output));
+  }
 }
 
 }  // namespace rostro::app

@@ -2,6 +2,7 @@
 // Checks of the options that size work (frame rates, durations), so that a typo never
 // turns into hours of work, gigabytes of memory or a file rostro itself rejects.
 
+#include <initializer_list>
 #include <string>
 
 namespace rostro::app {
@@ -10,5 +11,10 @@ namespace rostro::app {
 void check_fps(double fps, const std::string& option);
 // Throws InputError unless `seconds` is finite, > 0 and <= `max` (default: a day).
 void check_seconds(double seconds, const std::string& option, double max = 86400.0);
+
+// Throws InputError when the output `option` names the same file as one of `inputs` (empty
+// names are skipped): a command never writes over what it reads.
+void check_not_an_input(const std::string& output, const std::string& option,
+                        std::initializer_list<std::string> inputs);
 
 }  // namespace rostro::app

@@ -34,6 +34,7 @@ void validate(const std::string& path) {
 
 void convert(const std::string& in, const std::string& out) {
   fap_format_for(out);  // reject an unknown output extension before reading anything
+  check_not_an_input(out, "OUTPUT", {in});
   auto source = open_fap_source(in);
   auto sink = open_fap_sink(out, source->header());
   Progress progress("converting", source->header().frame_count);

@@ -105,6 +105,8 @@ void play(const PlayOptions& o) {
   if (o.output.empty() && o.frames.empty()) {
     throw InputError("play: give -o OUT.mp4 or --frames DIR (or both)");
   }
+  for (const auto& [out, option] : {std::pair{o.output, "-o"}, {o.frames, "--frames"}})
+    check_not_an_input(out, option, {o.input, o.audio});
   if (o.input.empty() == o.expression.empty()) {
     throw InputError("play: give either a FAP file or --expression NAME");
   }

@@ -37,6 +37,33 @@ CameraIntrinsics default_intrinsics(cv::Size image_size) {
   return k;
 }
 
+CameraIntrinsics intrinsics_for_frames(const CameraIntrinsics& k, cv::Size frame_size,
+                                       const std::string& what, std::string* note) {
+  if (k.image_size == frame_size || frame_size.empty()) return k;
+  auto size_text = [](cv::Size s) {
+    return std::to_string(s.width) + "x" + std::to_string(s.height);
+  };
+  const double sx = static_cast<double>(frame_size.width) / k.image_size.width;
+  const double sy = static_cast<double>(frame_size.height) / k.image_size.height;
+  if (std::abs(sx / sy - 1.0) > 0.01)
+    throw InputError(what + ": calibrated on " + size_text(k.image_size) +
+                     " images, but the frames are " + size_text(frame_size) +
+                     " (another aspect ratio: a crop or another camera mode); calibrate at " +
+                     size_text(frame_size));
+  CameraIntrinsics scaled = k;
+  scaled.image_size = frame_size;
+  scaled.fx *= sx;
+  scaled.fy *= sy;
+  // Pixel centres sit at integers: a resize maps x to (x + 0.5) s - 0.5.
+  scaled.cx = (k.cx + 0.5) * sx - 0.5;
+  scaled.cy = (k.cy + 0.5) * sy - 0.5;
+  scaled.source = k.source + ", scaled from " + size_text(k.image_size);
+  if (note)
+    *note = what + ": calibrated on " + size_text(k.image_size) + " images, scaled to the " +
+            size_text(frame_size) + " frames";
+  return scaled;
+}
+
 void validate_intrinsics(const CameraIntrinsics& k, const std::string& context) {
   auto bad = [](double v) { return !std::isfinite(v) || v <= 0; };
   if (k.image_size.width <= 0 || k.image_size.height <= 0)

@@ -34,6 +34,15 @@ CameraIntrinsics parse_intrinsics(const std::string& text, const std::string& na
 // Format from the extension (.yml, .yaml, .xml, .json); written atomically.
 void write_intrinsics(const std::filesystem::path& path, const CameraIntrinsics& intrinsics);
 
+// The intrinsics for frames of `frame_size`. Unchanged when calibrated at that size; scaled
+// when the frames are the calibrated image resized (the same aspect ratio within 1 %, as a
+// camera mode that bins or a re-encoded video), with `*note` saying so; otherwise an
+// InputError naming both sizes: a crop or another camera mode moves the principal point and
+// the field of view in ways no scaling recovers (1280x720 intrinsics on 640x480 frames put a
+// capture's error from 1 % to 3.8 %). `what` names the intrinsics in both messages.
+CameraIntrinsics intrinsics_for_frames(const CameraIntrinsics& intrinsics, cv::Size frame_size,
+                                       const std::string& what, std::string* note);
+
 // Checks positivity and finiteness; throws InputError prefixed with `context`.
 void validate_intrinsics(const CameraIntrinsics& intrinsics, const std::string& context);
 

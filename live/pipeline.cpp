@@ -10,6 +10,7 @@
 
 #include "calib/actor_calibration.hpp"
 #include "calib/actor_prior.hpp"
+#include "calib/neutral_motion.hpp"
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
 #include "facecore/face_model.hpp"
@@ -199,6 +200,10 @@ void Pipeline::Impl::finish_calibration() {
         neutral, camera, calib::actor_calibration_options(tracker->layout(), prior, "live actor"));
     mapper = mapping::make_fap_mapper(profile, o.mapper);
     calibrating = false;
+    if (const std::string moving =
+            calib::neutral_motion_warning(calib::measure_neutral_motion(neutral));
+        !moving.empty())
+      log("warning: " + moving + " (press C to calibrate again)");
     log(fmt::format("calibrated the actor from {} frames ({:.1f} s), assumed neutral{}",
                     neutral.size(), o.calibration_seconds,
                     o.intrinsics ? "" : ", with default camera intrinsics"));
@@ -416,6 +421,11 @@ Pipeline::Pipeline(PipelineOptions options) : impl_(std::make_unique<Impl>()) {
   m.source = capture::open_frame_source(m.o.camera, m.o.source);
   m.fps = m.source->nominal_fps() > 0 ? m.source->nominal_fps() : 25.0;
   m.size = m.source->frame_size();
+  if (m.o.intrinsics) {
+    std::string note;
+    m.o.intrinsics = calib::intrinsics_for_frames(*m.o.intrinsics, m.size, "intrinsics", &note);
+    if (!note.empty()) m.log(note);
+  }
   m.paced = m.o.real_time.value_or(m.source->frame_count() >= 0);
   if (m.o.vmc) m.vmc = std::make_unique<VmcSender>(ArkitMapping::load_default(), *m.o.vmc);
   if (m.o.fap_udp)

@@ -55,6 +55,11 @@ long PipelinedTakeMapper::held_back() const {
   return pushed_ - returned_;
 }
 
+std::optional<calib::NeutralMotion> PipelinedTakeMapper::calibration_motion() const {
+  const std::lock_guard lock(mutex_);
+  return calibration_motion_;
+}
+
 bool PipelinedTakeMapper::self_calibrated() const {
   return calibration_frames_used() > 0;
 }
@@ -86,9 +91,11 @@ void PipelinedTakeMapper::run() {
       error = std::current_exception();
     }
     const long calibrated_from = take_.calibration_frames_used();
+    const auto motion = take_.calibration_motion();
     lock.lock();
     // The calibration's frame count is published with the first frames mapped after it.
     calibration_frames_used_ = calibrated_from;
+    calibration_motion_ = motion;
     ready_.insert(ready_.end(), std::make_move_iterator(out.begin()),
                   std::make_move_iterator(out.end()));
     if (error || last) {

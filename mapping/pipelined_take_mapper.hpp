@@ -59,6 +59,7 @@ class PipelinedTakeMapper {
   // after it are returned).
   bool self_calibrated() const;
   long calibration_frames_used() const;
+  std::optional<calib::NeutralMotion> calibration_motion() const;
 
  private:
   void run();  // the worker
@@ -74,6 +75,7 @@ class PipelinedTakeMapper {
   bool finishing_ = false, stopping_ = false, done_ = false;
   long pushed_ = 0, returned_ = 0;
   long calibration_frames_used_ = 0;
+  std::optional<calib::NeutralMotion> calibration_motion_;
   std::thread worker_;  // last: starts once everything above exists
 };
 

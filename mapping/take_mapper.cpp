@@ -60,6 +60,7 @@ void TakeMapper::calibrate() {
   profile_ = calib::calibrate_actor(neutral, camera_,
                                     calib::actor_calibration_options(layout_, prior, "actor"));
   calibrated_from_ = static_cast<long>(neutral.size());
+  calibration_motion_ = calib::measure_neutral_motion(neutral);
   mapper_ = make_fap_mapper(profile_, options_);
 }
 

@@ -13,6 +13,7 @@
 
 #include "calib/actor_profile.hpp"
 #include "calib/camera_intrinsics.hpp"
+#include "calib/neutral_motion.hpp"
 #include "facecore/fap_frame.hpp"
 #include "mapping/fap_mapper.hpp"
 #include "tracking/layout.hpp"
@@ -48,6 +49,11 @@ class TakeMapper {
   // many frames: 0 until it happens.
   bool self_calibrated() const { return calibrated_from_ > 0; }
   long calibration_frames_used() const { return calibrated_from_; }
+  // How much the face moved over those frames (calib/neutral_motion.hpp); nullopt until the
+  // calibration here, or when it could not be measured.
+  const std::optional<calib::NeutralMotion>& calibration_motion() const {
+    return calibration_motion_;
+  }
   // The profile in use; null until ready().
   const calib::ActorProfile* profile() const { return mapper_ ? &profile_ : nullptr; }
   // The head pose of the last mapped frame when the method estimates one.
@@ -65,6 +71,7 @@ class TakeMapper {
   std::unique_ptr<FapMapper> mapper_;
   std::deque<tracking::TrackedFrame> pending_;
   long calibrated_from_ = 0;
+  std::optional<calib::NeutralMotion> calibration_motion_;
   long usable_ = 0;  // held-back frames with any valid marker
 };
 

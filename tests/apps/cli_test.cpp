@@ -92,6 +92,21 @@ TEST(Cli, FailedConvertLeavesNoOutput) {
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
+TEST(Cli, NoCommandWritesOverItsOwnInput) {
+  const auto dir = scratch("output-is-input");
+  const std::string fap = (dir / "wave.fap").string();
+  ASSERT_EQ(rostro("fap generate --seconds 1 -o " + fap).exit_code, 0);
+  const auto before = std::filesystem::file_size(fap);
+  for (const std::string& args :
+       {"play " + fap + " -o " + fap, "fap convert " + fap + " " + dir.string() + "/./wave.fap",
+        "play " + fap + " -o " + dir.string() + "/x.mp4 --audio " + dir.string() + "/x.mp4"}) {
+    const CliRun run = rostro(args);
+    EXPECT_EQ(run.exit_code, 1) << args;
+    EXPECT_NE(run.output.find("is an input of this command"), std::string::npos) << run.output;
+  }
+  EXPECT_EQ(std::filesystem::file_size(fap), before);
+}
+
 }  // namespace
 
 namespace {

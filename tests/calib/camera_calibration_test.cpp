@@ -153,5 +153,35 @@ TEST(CameraIntrinsics, DamagedFilesFromMemoryAreInputErrors) {
   EXPECT_THROW(parse_intrinsics("", "mem.yml"), InputError);
 }
 
+TEST(CameraIntrinsics, FramesOfAnotherSizeAreScaledOrRefused) {
+  CameraIntrinsics hd;
+  hd.image_size = {1280, 720};
+  hd.fx = hd.fy = 1000;
+  hd.cx = 639.5;
+  hd.cy = 359.5;
+  std::string note;
+  EXPECT_EQ(intrinsics_for_frames(hd, {1280, 720}, "cam.yml", &note).fx, 1000);
+  EXPECT_TRUE(note.empty());
+
+  // Half size, same aspect: the image resized, so the intrinsics scale with it.
+  const CameraIntrinsics half = intrinsics_for_frames(hd, {640, 360}, "cam.yml", &note);
+  EXPECT_DOUBLE_EQ(half.fx, 500);
+  EXPECT_DOUBLE_EQ(half.cx, 319.5);  // the centre stays the centre
+  EXPECT_DOUBLE_EQ(half.cy, 179.5);
+  EXPECT_EQ(half.image_size, cv::Size(640, 360));
+  EXPECT_NE(note.find("scaled"), std::string::npos) << note;
+
+  // 4:3 frames from 16:9 intrinsics: refused, naming both sizes.
+  try {
+    intrinsics_for_frames(hd, {640, 480}, "cam.yml", &note);
+    FAIL() << "640x480 frames accepted 1280x720 intrinsics";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("cam.yml"), std::string::npos) << what;
+    EXPECT_NE(what.find("1280x720"), std::string::npos) << what;
+    EXPECT_NE(what.find("640x480"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace rostro::calib
