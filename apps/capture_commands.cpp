@@ -270,6 +270,7 @@ void run_capture(const CaptureArgs& a) {
     throw InputError(*failure + " (" + kept + ")");
   }
   sink->finish();
+  warn_if_xface_cannot_read(*sink, a.output);
   if (tracks) tracks->finish();
   if (preview) preview->finish();
   std::printf(

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "facecore/error.hpp"
@@ -34,6 +35,11 @@ void check_not_an_input(const std::string& output, const std::string& option,
       throw InputError(
           fmt::format("{} {}: that is an input of this command; write elsewhere", option, output));
   }
+}
+
+void warn_if_xface_cannot_read(const FapSink& sink, const std::string& path) {
+  if (const std::string why = sink.xface_warning(); !why.empty())
+    std::fprintf(stderr, "rostro: warning: %s: %s\n", path.c_str(), why.c_str());
 }
 
 }  // namespace rostro::app

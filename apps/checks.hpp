@@ -5,6 +5,8 @@
 #include <initializer_list>
 #include <string>
 
+#include "facecore/fap_io.hpp"
+
 namespace rostro::app {
 
 // Throws InputError unless `fps` is finite, > 0 and <= 1000.
@@ -16,5 +18,9 @@ void check_seconds(double seconds, const std::string& option, double max = 86400
 // names are skipped): a command never writes over what it reads.
 void check_not_an_input(const std::string& output, const std::string& option,
                         std::initializer_list<std::string> inputs);
+
+// After `sink` finished writing `path`: a warning line on stderr when Xface (2004) cannot
+// read it (a .fap with a fractional frame rate or the high-level FAP 1/2).
+void warn_if_xface_cannot_read(const FapSink& sink, const std::string& path);
 
 }  // namespace rostro::app

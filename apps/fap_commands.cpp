@@ -46,6 +46,7 @@ void convert(const std::string& in, const std::string& out) {
   sink->finish();
   progress.finish();
   std::printf("%s: %ld frames\n", out.c_str(), sink->frames_written());
+  warn_if_xface_cannot_read(*sink, out);
 }
 
 // A killed writer's temporary NAME.fap.tmp-PID: the default output is NAME.fap.
@@ -99,6 +100,7 @@ void generate(const std::string& out, double seconds, double fps, const std::str
   sink->finish();
   progress.finish();
   std::printf("%s: %ld frames at %g fps\n", out.c_str(), frames, fps);
+  warn_if_xface_cannot_read(*sink, out);
 }
 
 }  // namespace

@@ -86,6 +86,7 @@ void run_script(const ScriptArgs& a, const CLI::App& cmd) {
   interrupt.throw_if_requested();
   sink->finish();
   progress.finish();
+  warn_if_xface_cannot_read(*sink, output);
   if (!a.wav.empty()) speech::write_wav(a.wav, scene.audio());
   if (!a.cues.empty())
     speech::write_cues(a.cues, speech::mouth_cues(scene.phonemes(), scene.duration_s()), a.wav,

@@ -166,6 +166,7 @@ void speak(const SpeakArgs& a) {
   interrupt.throw_if_requested();
   sink->finish();
   progress.finish();
+  warn_if_xface_cannot_read(*sink, a.output);
   if (!a.wav.empty()) speech::write_wav(a.wav, prepared.audio);
   if (!a.cues.empty())
     speech::write_cues(a.cues,

@@ -2,7 +2,8 @@
 //   <version> <name> <fps> <frame count>
 //   then per frame a mask line of 68 0/1 values and a value line: the frame number, then
 //   the values of the masked FAPs in order (FAP 1 takes 4, FAP 2 takes 6, others 1).
-// Lines starting with '#' are comments.
+// Lines starting with '#' are comments. Read as the 2004 Xface reader reads it too: FAP 1
+// and FAP 2 as one number each, and value lines wrapped over several lines.
 
 #include <algorithm>
 #include <charconv>
@@ -57,6 +58,7 @@ class FapTextParser {
   LineReader lines_;
   FapHeader header_;
   std::vector<std::string_view> tokens_;
+  std::string joined_;  // a value line wrapped over several lines, joined
   std::bitset<kFapCount> mask_;
   long frames_read_ = 0;
   long last_frame_number_ = -1;
@@ -150,15 +152,39 @@ FapTextParser::Step FapTextParser::next(FapFrame& frame, std::string& problem) {
 
 FapTextParser::Step FapTextParser::parse_values(FapFrame& frame, std::string_view line,
                                                 std::string& problem) {
-  split_whitespace(line, tokens_);
-  std::size_t expected = 1;
+  // The standard writes FAP 1 as 4 fields and FAP 2 as 6; the 2004 Xface reader reads and
+  // writes one number for each (taken here as the first viseme or expression, at full
+  // weight). Either is accepted, told apart by the number of values.
+  std::size_t full = 1;
   for (int id = 1; id <= kFapCount; ++id)
     if (mask_.test(static_cast<std::size_t>(id - 1)))
-      expected += static_cast<std::size_t>(fap_value_count(id));
-  if (tokens_.size() != expected) {
-    problem = at("value line has " + std::to_string(tokens_.size()) + " fields, expected " +
-                 std::to_string(expected) + " (frame number + values of " +
-                 std::to_string(mask_.count()) + " masked FAPs)");
+      full += static_cast<std::size_t>(fap_value_count(id));
+  const bool has_viseme = mask_.test(kVisemeFap - 1);
+  const bool has_expression = mask_.test(kExpressionFap - 1);
+  const std::size_t shortest = full - (has_viseme ? 3 : 0) - (has_expression ? 5 : 0);
+  // Xface reads values as a stream of numbers, so a value line may be wrapped over several
+  // lines: the next lines are joined until there are enough.
+  split_whitespace(line, tokens_);
+  if (tokens_.size() < shortest) {
+    joined_.assign(line);
+    std::string_view more;
+    while (tokens_.size() < shortest && next_content_line(more)) {
+      joined_ += ' ';
+      joined_ += more;
+      split_whitespace(joined_, tokens_);
+    }
+  }
+  const std::size_t count = tokens_.size();
+  const bool one_number_viseme = has_viseme && (count == full - 3 || count == full - 8);
+  const bool one_number_expression = has_expression && (count == full - 5 || count == full - 8);
+  if (count != full && !one_number_viseme && !one_number_expression) {
+    problem =
+        at("value line has " + std::to_string(count) + " fields, expected " + std::to_string(full) +
+           " (frame number + values of " + std::to_string(mask_.count()) + " masked FAPs" +
+           (has_viseme || has_expression ? ", or " + std::to_string(shortest) +
+                                               " with FAP 1 and 2 as one number each as Xface "
+                                               "writes them)"
+                                         : ")"));
     return Step::Problem;
   }
   long number = 0;
@@ -191,7 +217,20 @@ FapTextParser::Step FapTextParser::parse_values(FapFrame& frame, std::string_vie
   };
   for (int id = 1; id <= kFapCount; ++id) {
     if (!mask_.test(static_cast<std::size_t>(id - 1))) continue;
-    if (id == kVisemeFap || id == kExpressionFap) {
+    if ((id == kVisemeFap && one_number_viseme) ||
+        (id == kExpressionFap && one_number_expression)) {
+      const bool is_viseme = id == kVisemeFap;
+      const HighLevelField& select = is_viseme ? kVisemeFields[0] : kExpressionFields[0];
+      int chosen = 0;
+      if (!field(chosen, select))
+        return bad(id, "",
+                   "one whole number in 0.." + std::to_string(select.max) +
+                       " (Xface's form) or its " + (is_viseme ? "4" : "6") + " fields");
+      if (is_viseme)
+        frame.viseme = {chosen, 0, 63, 0};
+      else
+        frame.expression = {chosen, 63, 0, 0, 0, 0};
+    } else if (id == kVisemeFap || id == kExpressionFap) {
       VisemeParams& v = frame.viseme;
       ExpressionParams& e = frame.expression;
       int* viseme[] = {&v.select1, &v.select2, &v.blend, &v.def};
@@ -259,7 +298,10 @@ class FapTextSink final : public FapSink {
     std::string name = header.name.empty() ? std::string("rostro") : header.name;
     for (char& c : name)
       if (c == ' ' || c == '\t' || c == '\n' || c == '\r') c = '_';
+    // Xface reads the name into 255 bytes.
+    if (name.size() > 200) name.resize(200);
     std::string line = header.version + " " + name + " ";
+    fps_ = header.fps;
     detail::append_number(line, header.fps);
     line += ' ';
     count_offset_ = static_cast<off_t>(line.size());
@@ -280,6 +322,7 @@ class FapTextSink final : public FapSink {
       pending_ += i + 1 < kFapCount ? ' ' : '\n';
     }
     append_int(frame.index);
+    wrote_high_level_ = wrote_high_level_ || frame.has(kVisemeFap) || frame.has(kExpressionFap);
     for (int id = 1; id <= kFapCount; ++id) {
       if (!frame.has(id)) continue;
       if (id == kVisemeFap) {
@@ -310,6 +353,19 @@ class FapTextSink final : public FapSink {
   }
 
   long frames_written() const override { return written_; }
+
+  std::string xface_warning() const override {
+    std::string why;
+    if (fps_ != std::floor(fps_)) {
+      why = "its frame rate ";
+      detail::append_number(why, fps_);
+      why += " is not a whole number";
+    }
+    if (wrote_high_level_)
+      why += std::string(why.empty() ? "" : " and ") +
+             "it holds the high-level FAP 1/2 with all their fields";
+    return why.empty() ? why : "Xface (2004) cannot read it: " + why;
+  }
 
  private:
   static std::string count_field(long count) {
@@ -360,6 +416,8 @@ class FapTextSink final : public FapSink {
   long durable_frames_ = 0;   // the frames the header vouches for
   long written_ = 0;
   long frames_per_checkpoint_ = 25;
+  double fps_ = 25;
+  bool wrote_high_level_ = false;
   Clock::time_point next_checkpoint_, next_sync_;
   std::string failure_;  // after a failed write: its message
 };

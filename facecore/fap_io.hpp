@@ -34,6 +34,11 @@ class FapSink {
   virtual void finish_as(const std::filesystem::path& destination) = 0;
   // The frames written so far; after a failed write(), the frames kept.
   virtual long frames_written() const = 0;
+  // Why the 2004 Xface reader cannot load the .fap written so far, or empty (always empty for
+  // CSV and JSON, which Xface does not read): it reads the frame rate as a whole number and
+  // FAP 1 and FAP 2 as one number each, so a rate of 29.97 loads nothing and the high-level
+  // FAPs' 4 and 6 fields shift every later value.
+  virtual std::string xface_warning() const { return {}; }
 };
 
 enum class FapFormat { Fap, Csv, Json };

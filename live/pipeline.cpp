@@ -238,6 +238,8 @@ void Pipeline::Impl::stop_recording(bool failed) {
     recording->finish();
   }
   log(fmt::format("{}: {} frames", kept.string(), recording->frames_written()));
+  if (const std::string why = recording->xface_warning(); !why.empty())
+    log("warning: " + kept.string() + ": " + why);
   std::lock_guard lock(mutex);
   report.recordings.push_back(kept);
   recording.reset();

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "facecore/fap_io.hpp"
 #include "fap_test_util.hpp"
 #include "test_paths.hpp"
@@ -27,6 +29,56 @@ TEST(FapFile, ReadsHeaderMaskAndValues) {
   EXPECT_EQ(s.frames[1].viseme, (VisemeParams{3, 7, 20, 0}));
   EXPECT_EQ(s.frames[1].expression, (ExpressionParams{1, 40, 6, 10, 0, 0}));
   EXPECT_DOUBLE_EQ(s.frames[1].get(19), 512);
+}
+
+// The 2004 Xface reader reads the values as a stream of numbers, FAP 1 and FAP 2 as one
+// number each; files written for it are read alike.
+TEST(FapFile, ReadsXfacesOneNumberHighLevelFapsAndWrappedValueLines) {
+  const auto dir = test::scratch_dir("fapfile-xface");
+  const auto path = test::write_text(
+      dir / "x.fap", "2.1 Xface::FapFile 25 3\n" + test::mask_line({1, 2, 3}) + "\n0 4 2 120\n" +
+                         test::mask_line({1, 3}) + "\n1 0 7 3 0 130\n" +
+                         test::mask_line({3, 4, 5, 6}) + "\n2 10 20\n30\n 40\n");
+  const FapStream s = read_fap_stream(path);
+  ASSERT_EQ(s.frames.size(), 3u);
+  EXPECT_EQ(s.frames[0].viseme, (VisemeParams{4, 0, 63, 0}));  // viseme 4 at full weight
+  EXPECT_EQ(s.frames[0].expression, (ExpressionParams{2, 63, 0, 0, 0, 0}));
+  EXPECT_DOUBLE_EQ(s.frames[0].get(3), 120);
+  EXPECT_EQ(s.frames[1].viseme, (VisemeParams{0, 7, 3, 0}));  // the standard's 4 fields
+  EXPECT_DOUBLE_EQ(s.frames[1].get(3), 130);
+  EXPECT_DOUBLE_EQ(s.frames[2].get(3), 10);  // one frame's values over three lines
+  EXPECT_DOUBLE_EQ(s.frames[2].get(6), 40);
+
+  // Neither form: the message names both counts.
+  const auto bad = test::write_text(
+      dir / "bad.fap", "2.1 x 25 1\n" + test::mask_line({1, 3}) + "\n0 1 2 120\n");
+  const std::string e = test::read_error(bad);
+  EXPECT_NE(e.find("expected 6"), std::string::npos) << e;
+  EXPECT_NE(e.find("or 3 with FAP 1 and 2 as one number each"), std::string::npos) << e;
+}
+
+TEST(FapFile, TheWriterSaysWhenXfaceCannotReadTheFile) {
+  const auto dir = test::scratch_dir("fapfile-xface-write");
+  FapFrame plain;
+  plain.set(3, 100);
+  FapFrame high = plain;
+  high.set_viseme({3, 0, 63, 0});
+  const auto warning = [&](double fps, const FapFrame& frame) {
+    FapHeader h;
+    h.fps = fps;
+    auto sink = open_fap_sink(dir / "w.fap", h);
+    sink->write(frame);
+    sink->finish();
+    return sink->xface_warning();
+  };
+  EXPECT_EQ(warning(25, plain), "");
+  EXPECT_NE(warning(29.97, plain).find("frame rate 29.97"), std::string::npos);
+  EXPECT_NE(warning(30, high).find("FAP 1/2"), std::string::npos);
+  // A whole rate is written as a whole number, as Xface reads it.
+  std::ifstream in(dir / "w.fap");
+  std::string version, name, fps;
+  in >> version >> name >> fps;
+  EXPECT_EQ(fps, "30");
 }
 
 TEST(FapFile, ToleratesCrlfTrailingSpacesCommentsAndPathNames) {
