@@ -35,6 +35,12 @@ const std::array<const char*, kArkitShapeCount>& arkit_shape_names() {
   return names;
 }
 
+std::string pascal_case(const std::string& arkit_name) {
+  std::string name = arkit_name;
+  if (!name.empty() && name[0] >= 'a' && name[0] <= 'z') name[0] = static_cast<char>(name[0] - 32);
+  return name;
+}
+
 ArkitMapping ArkitMapping::load(const std::filesystem::path& path) {
   const std::string file = path.string();
   const nlohmann::json doc = read_json_file(path, "the ARKit mapping");

@@ -43,4 +43,8 @@ class ArkitMapping {
 // The 52 ARKit names in Apple's order.
 const std::array<const char*, kArkitShapeCount>& arkit_shape_names();
 
+// Apple's camelCase name ("eyeBlinkLeft") as the PascalCase "perfect sync" clip name VRM
+// avatars and Live Link Face use ("EyeBlinkLeft").
+std::string pascal_case(const std::string& arkit_name);
+
 }  // namespace rostro::live

@@ -30,11 +30,12 @@ VmcSender::~VmcSender() = default;
 
 std::array<float, 4> head_quaternion(const FapFrame& frame) {
   // MPEG-4: pitch positive = head down, yaw positive = turn to the face's left, roll
-  // positive = tilt to the face's right. Unity (left-handed, y up, z forward, the avatar
-  // facing -z toward the viewer): rotations about x, y, z with the same senses.
+  // positive = tilt to the face's right. Unity, the avatar facing +z: about x positive
+  // tips the face down (the same), about y positive turns it to its right and about z
+  // positive lifts its right side, tilting it to its left (both the opposite).
   const double pitch = frame.get(48) * kAngleUnitRad;
-  const double yaw = frame.get(49) * kAngleUnitRad;
-  const double roll = frame.get(50) * kAngleUnitRad;
+  const double yaw = -frame.get(49) * kAngleUnitRad;
+  const double roll = -frame.get(50) * kAngleUnitRad;
   const double cx = std::cos(pitch / 2), sx = std::sin(pitch / 2);
   const double cy = std::cos(yaw / 2), sy = std::sin(yaw / 2);
   const double cz = std::cos(roll / 2), sz = std::sin(roll / 2);
@@ -53,11 +54,18 @@ void VmcSender::send(const FapFrame& frame, double time_s) {
   const auto& rules = mapping_.rules();
   for (std::size_t i = 0; i < rules.size(); ++i) {
     lo_message m = lo_message_new();
-    lo_message_add_string(m, rules[i].name.c_str());
+    lo_message_add_string(
+        m, (options_.pascal_case_names ? pascal_case(rules[i].name) : rules[i].name).c_str());
     lo_message_add_float(m, weights_[i]);
     lo_bundle_add_message(bundle, "/VMC/Ext/Blend/Val", m);
   }
   lo_bundle_add_message(bundle, "/VMC/Ext/Blend/Apply", lo_message_new());
+
+  // The avatar stays where the receiver put it: the root at the origin, unrotated.
+  lo_message root = lo_message_new();
+  lo_message_add_string(root, "root");
+  for (float v : {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f}) lo_message_add_float(root, v);
+  lo_bundle_add_message(bundle, "/VMC/Ext/Root/Pos", root);
 
   const auto q = head_quaternion(frame);
   lo_message bone = lo_message_new();

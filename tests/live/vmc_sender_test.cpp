@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <lo/lo.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <string>
@@ -93,15 +95,55 @@ TEST_F(VmcLoopback, HeadBoneCarriesTheYaw) {
   options.port = port_;
   VmcSender sender(ArkitMapping::load_default(), options);
   FapFrame frame;
-  frame.set(49, 20000);  // head_yaw 0.2 rad
+  frame.set(49, 20000);  // head_yaw 0.2 rad, to the actor's left
   sender.send(frame, 0);
   receive(1);
   ASSERT_EQ(received_.bone.size(), 7u);
-  // Quaternion about y by 0.2 rad.
+  // Quaternion about y by -0.2 rad (Unity: negative is a turn to the avatar's left).
   EXPECT_NEAR(received_.bone[3], 0.0f, 1e-6);
-  EXPECT_NEAR(received_.bone[4], std::sin(0.1f), 1e-6);
+  EXPECT_NEAR(received_.bone[4], -std::sin(0.1f), 1e-6);
   EXPECT_NEAR(received_.bone[5], 0.0f, 1e-6);
   EXPECT_NEAR(received_.bone[6], std::cos(0.1f), 1e-6);
+}
+
+TEST_F(VmcLoopback, PerfectSyncNamesAndTheRoot) {
+  VmcOptions options;
+  options.port = port_;
+  options.pascal_case_names = true;
+  VmcSender sender(ArkitMapping::load_default(), options);
+  FapFrame frame;
+  frame.set(3, 350);
+  sender.send(frame, 0);
+  receive(1);
+  EXPECT_NEAR(received_.blend.at("JawOpen"), 0.5f, 1e-5);
+  EXPECT_EQ(received_.blend.count("jawOpen"), 0u);
+  EXPECT_EQ(received_.blend.size(), 52u);
+  EXPECT_EQ(std::count(received_.paths.begin(), received_.paths.end(), "/VMC/Ext/Root/Pos"), 1);
+}
+
+// v rotated by the unit quaternion q = (x, y, z, w): the same formula in either handedness.
+std::array<double, 3> rotate(const std::array<float, 4>& q, std::array<double, 3> v) {
+  const double x = q[0], y = q[1], z = q[2], w = q[3];
+  const double m[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                          {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                          {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+  std::array<double, 3> r{};
+  for (int i = 0; i < 3; ++i) r[i] = m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2];
+  return r;
+}
+
+// Unity, as VMC receivers use it: y up, the avatar facing +z, its right at +x.
+TEST(HeadQuaternion, TheActorsTurnsArriveAsTheAvatarsTurns) {
+  constexpr std::array<double, 3> kForward{0, 0, 1}, kRight{1, 0, 0};
+  FapFrame turn;
+  turn.set(49, 30000);  // head_yaw positive: a turn to the actor's left
+  EXPECT_LT(rotate(head_quaternion(turn), kForward)[0], -0.25);  // the avatar looks left
+  FapFrame nod;
+  nod.set(48, 30000);  // head_pitch positive: the head down
+  EXPECT_LT(rotate(head_quaternion(nod), kForward)[1], -0.25);  // the avatar looks down
+  FapFrame tilt;
+  tilt.set(50, 30000);  // head_roll positive: a tilt to the actor's right
+  EXPECT_LT(rotate(head_quaternion(tilt), kRight)[1], -0.25);  // the avatar's right ear drops
 }
 
 TEST(HeadQuaternion, IsUnitForAnyPose) {
