@@ -7,9 +7,11 @@
 #include "apps/checks.hpp"
 #include "apps/commands.hpp"
 #include "apps/progress.hpp"
+#include "facecore/atomic_file.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_io.hpp"
 #include "facecore/fap_summary.hpp"
+#include "live/live_link_face_csv.hpp"
 
 namespace rostro::app {
 namespace {
@@ -32,10 +34,34 @@ void validate(const std::string& path) {
   std::printf("%s: valid\n", path.c_str());
 }
 
+// NAME.arkit.csv: ARKit blend-shape curves in Live Link Face's CSV layout.
+bool is_arkit_csv(const std::string& path) {
+  return path.ends_with(".arkit.csv");
+}
+
+void convert_to_live_link_face(FapSource& source, const std::string& out) {
+  live::LiveLinkFaceCsv csv(live::ArkitMapping::load_default(), source.header().fps);
+  AtomicFile file(out);
+  file.write(live::LiveLinkFaceCsv::header());
+  Progress progress("converting", source.header().frame_count);
+  FapFrame frame;
+  long frames = 0;
+  while (source.next(frame)) {
+    file.write(csv.row(frame));
+    progress.update(++frames);
+  }
+  file.commit();
+  progress.finish();
+  std::printf("%s: %ld frames of the 52 ARKit blend shapes (Live Link Face CSV)\n", out.c_str(),
+              frames);
+}
+
 void convert(const std::string& in, const std::string& out) {
-  fap_format_for(out);  // reject an unknown output extension before reading anything
+  if (!is_arkit_csv(out))
+    fap_format_for(out);  // reject an unknown output extension before reading anything
   check_not_an_input(out, "OUTPUT", {in});
   auto source = open_fap_source(in);
+  if (is_arkit_csv(out)) return convert_to_live_link_face(*source, out);
   auto sink = open_fap_sink(out, source->header());
   Progress progress("converting", source->header().frame_count);
   FapFrame frame;
@@ -124,10 +150,14 @@ void add_fap_commands(CLI::App& app) {
   validate_cmd->callback([] { validate(in); });
 
   CLI::App* convert_cmd =
-      fap->add_subcommand("convert", "Convert between .fap, .csv and .json (chosen by extension)");
+      fap->add_subcommand("convert",
+                          "Convert between .fap, .csv and .json (chosen by extension), or to "
+                          "ARKit blend-shape curves (NAME.arkit.csv, Live Link Face's layout)");
   convert_cmd->add_option("IN", in, "input stream")->required();
   convert_cmd->add_option("OUT", out, "output file; written whole or not at all")->required();
-  convert_cmd->footer("Example:\n  rostro fap convert take.fap take.csv");
+  convert_cmd->footer(
+      "Examples:\n  rostro fap convert data/samples/wave.fap wave.csv\n"
+      "  rostro fap convert data/samples/wave.fap wave.arkit.csv   # for Unreal, Blender");
   convert_cmd->callback([] { convert(in, out); });
 
   static std::string recovered;

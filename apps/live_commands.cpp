@@ -25,6 +25,7 @@ namespace {
 struct LiveArgs {
   FaceTrackerArgs face;
   std::string camera, actor, intrinsics, vmc, fap_udp, record, method = "ceres";
+  std::string vmc_names = "apple";
   bool headless = false;
   bool no_hierarchy = false;
   double calibration_seconds = 1.0;
@@ -46,6 +47,9 @@ void run_live(const LiveArgs& a) {
     live::VmcOptions vmc;
     vmc.host = t.host;
     vmc.port = t.port;
+    if (a.vmc_names != "apple" && a.vmc_names != "perfect-sync")
+      throw InputError("--vmc-names " + a.vmc_names + ": expected 'apple' or 'perfect-sync'");
+    vmc.pascal_case_names = a.vmc_names == "perfect-sync";
     o.vmc = vmc;
   }
   if (!a.fap_udp.empty()) o.fap_udp = live::parse_host_port(a.fap_udp, "--fap-udp");
@@ -104,6 +108,9 @@ void add_live_commands(CLI::App& app) {
                   "Actor profile (default: calibrate from the first second, held neutral)");
   cmd->add_option("--intrinsics", a.intrinsics, "Camera intrinsics (OpenCV FileStorage)");
   cmd->add_option("--vmc", a.vmc, "Send VMC (OSC) to host:port, e.g. 127.0.0.1:39539");
+  cmd->add_option("--vmc-names", a.vmc_names,
+                  "blend shape names: 'apple' (eyeBlinkLeft) or 'perfect-sync' (EyeBlinkLeft)")
+      ->capture_default_str();
   cmd->add_option("--fap-udp", a.fap_udp, "Send raw FAP frames over UDP to host:port");
   cmd->add_option("--record", a.record, "Record the FAPs to this .fap (R toggles in the window)");
   cmd->add_flag("--headless", a.headless, "No window: run until the source ends or Ctrl-C");
