@@ -170,8 +170,8 @@ void add_fap_commands(CLI::App& app) {
   recover_cmd->footer(
       "Keeps every whole frame: at least those up to the writer's last checkpoint, a second\n"
       "before it stopped. The temporary is left as it was.\n\n"
-      "Example:\n  rostro fap recover take.fap.tmp-4242\n"
-      "  rostro fap recover take.fap.tmp-4242 -o take-rescued.fap");
+      "Example:\n  rostro fap recover interview.fap.tmp-4242\n"
+      "  rostro fap recover interview.fap.tmp-4242 -o interview-rescued.fap");
   recover_cmd->callback([] { recover(in, recovered); });
 
   static double seconds = 4.0, fps = 25.0;
