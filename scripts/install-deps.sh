@@ -17,6 +17,9 @@ packages=(
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us
   flite alsa-utils
   liblua5.4-dev
+  # the window tests (tests/apps/window_test.cpp): an X server without a screen, keys,
+  # screenshots
+  xvfb xdotool x11-apps imagemagick
   # the shoot workflow (workflow/, `rostro shoot`) and its report's plot
   snakemake python3-matplotlib
 )

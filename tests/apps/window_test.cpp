@@ -1,0 +1,168 @@
+// The commands with a window, run for real on an X server without a screen (Xvfb): what is
+// on screen (a screenshot), what the keys do (typed through xdotool), and the one line a
+// window command prints when there is no display. Skips, naming the missing tools, when
+// Xvfb, xdotool, xwd or ImageMagick's convert is not installed (scripts/install-deps.sh
+// installs them).
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <regex>
+#include <string>
+
+#include "tests/support/x_display.hpp"
+
+namespace rostro::test {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::seconds;
+
+const std::string kRostro = std::string(ROSTRO_BINARY_DIR) + "/rostro";
+const std::string kLayout = std::string(ROSTRO_DATA_DIR) + "/layouts/default.json";
+// The renderer's background (render/gl_mesh_drawer.hpp, Shading::background) in BGR; the
+// synthetic clips are rendered on it too.
+const cv::Vec3b kBackground(66, 56, 51);
+
+fs::path scratch(const std::string& name) {
+  auto dir = fs::temp_directory_path() / ("rostro-window-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// The share of pixels in `region` that are neither the renderer's background nor black (the
+// bare X root window): what a camera image or a head puts there.
+double drawn_share(const cv::Mat& region) {
+  long drawn = 0;
+  for (int y = 0; y < region.rows; ++y) {
+    for (int x = 0; x < region.cols; ++x) {
+      const cv::Vec3b p = region.at<cv::Vec3b>(y, x);
+      int from_background = 0, brightness = 0;
+      for (int c = 0; c < 3; ++c) {
+        from_background = std::max(from_background, std::abs(p[c] - kBackground[c]));
+        brightness = std::max(brightness, static_cast<int>(p[c]));
+      }
+      if (from_background > 24 && brightness > 24) ++drawn;
+    }
+  }
+  return static_cast<double>(drawn) / std::max(1, region.rows * region.cols);
+}
+
+// The share of light pixels (text) in `region`.
+double light_share(const cv::Mat& region) {
+  cv::Mat grey;
+  cv::extractChannel(region, grey, 1);
+  return static_cast<double>(cv::countNonZero(grey > 180)) / std::max(1, region.rows * region.cols);
+}
+
+// "Geometry: 1120x548" from xdotool.
+cv::Size window_size(const XDisplay& x, const std::string& window) {
+  const std::string text = shell(x.env() + "xdotool getwindowgeometry " + window);
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex("Geometry: (\\d+)x(\\d+)"))) return {};
+  return {std::stoi(m[1]), std::stoi(m[2])};
+}
+
+// Skips the test (the caller returns when IsSkipped()) without the tools for a window.
+void need_x() {
+  const std::string missing = XDisplay::missing_tools();
+  if (!missing.empty())
+    GTEST_SKIP() << "window tests need " << missing
+                 << " (Debian: xvfb xdotool x11-apps imagemagick)";
+}
+
+// A marker clip in `dir`: 1 s neutral (the calibration), then `motion_s` seconds of motion drawn
+// from drive.fap, which is left beside it. Returns rostro's output if it failed, else "".
+std::string make_clip(const fs::path& dir, int motion_s) {
+  int code = 0;
+  const std::string fap = (dir / "drive.fap").string();
+  const std::string out = shell(kRostro + " fap generate --seconds " + std::to_string(motion_s) +
+                                    " --fps 25 -o " + fap + " && " + kRostro + " synth -o " +
+                                    (dir / "clip").string() + " --fap " + fap + " --neutral-lead 1",
+                                &code);
+  return code == 0 ? "" : out;
+}
+
+TEST(Window, LiveShowsCameraAndHeadAndItsKeysDoWhatTheySay) {
+  need_x();
+  if (IsSkipped()) return;
+  XDisplay x;
+  ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
+  const fs::path dir = scratch("live");
+  ASSERT_EQ(make_clip(dir, 24), "");
+  const fs::path clip = dir / "clip.mp4";
+  const fs::path out = dir / "out.txt", err = dir / "err.txt";
+  Background live("cd " + dir.string() + " && " + x.env() + kRostro + " live --camera " +
+                      clip.string() + " --layout " + kLayout,
+                  out, err);
+  ASSERT_TRUE(wait_for_text(err, "calibrated the actor", seconds(60))) << read_text(err);
+  const std::string window = x.find_window("rostro live", seconds(30));
+  ASSERT_FALSE(window.empty()) << read_text(err);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // a few tracked frames drawn
+
+  // The view: camera image (left, scaled to the head's 480 rows) beside the head (a
+  // 480x480 square on the right), the figures and the keys in the rows below.
+  const fs::path png = dir / "live-window.png";
+  ASSERT_TRUE(x.screenshot(png));
+  const cv::Mat screen = cv::imread(png.string());
+  const cv::Size size = window_size(x, window);
+  ASSERT_GT(size.width, 480 + 100) << "window " << size.width << "x" << size.height;
+  ASSERT_GT(size.height, 480 + 40);
+  const cv::Rect camera(0, 0, size.width - 480, 480), head(size.width - 480, 0, 480, 480),
+      text(0, 480, size.width, size.height - 480);
+  EXPECT_GT(drawn_share(screen(camera)), 0.15) << png;
+  EXPECT_GT(drawn_share(screen(head)), 0.15) << png;
+  EXPECT_GT(light_share(screen(text)), 0.01) << png;
+  // Outside the window the screen is still bare.
+  EXPECT_LT(drawn_share(screen(cv::Rect(0, size.height + 10, 1280, 800 - size.height - 10))),
+            0.001);
+
+  x.key(window, "t");
+  EXPECT_TRUE(wait_for_text(err, "tracking reset", seconds(30))) << read_text(err);
+  x.key(window, "c");
+  EXPECT_TRUE(wait_for_text(err, "calibrated the actor", seconds(30), 2)) << read_text(err);
+  x.key(window, "r");
+  EXPECT_TRUE(wait_for_text(err, "recording live-take.fap", seconds(30))) << read_text(err);
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  x.key(window, "r");
+  EXPECT_TRUE(wait_for_text(err, "live-take.fap: ", seconds(30))) << read_text(err);
+  x.key(window, "q");
+  ASSERT_EQ(live.wait_for(seconds(30)), 0) << read_text(err);
+
+  // Frames flowed, and Q ended the run before the clip did (25 s, 625 frames).
+  const std::string summary = read_text(out);
+  std::smatch m;
+  ASSERT_TRUE(
+      std::regex_search(summary, m,
+                        std::regex("frames: (\\d+) captured, \\d+ for calibration, (\\d+) sent, "
+                                   "(\\d+) rendered")))
+      << summary;
+  EXPECT_LT(std::stol(m[1]), 625) << summary;
+  EXPECT_GT(std::stol(m[2]), 25) << summary;
+  EXPECT_GT(std::stol(m[3]), 25) << summary;
+  EXPECT_NE(summary.find("recorded live-take.fap"), std::string::npos) << summary;
+  const std::string info = shell(kRostro + " fap info " + (dir / "live-take.fap").string());
+  EXPECT_TRUE(std::regex_search(info, std::regex("frames +[1-9]"))) << info;
+}
+
+TEST(Window, WithoutADisplayEachWindowCommandSaysSoInOneLine) {
+  const fs::path dir = scratch("no-display");
+  ASSERT_EQ(make_clip(dir, 1), "");
+  const fs::path clip = dir / "clip.mp4";
+  const std::string no_display = "env -u DISPLAY -u WAYLAND_DISPLAY ";
+  int code = 0;
+  std::string text = shell(
+      no_display + kRostro + " live --camera " + clip.string() + " --layout " + kLayout, &code);
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(text.find("no display for the live window"), std::string::npos) << text;
+  EXPECT_NE(text.find("use --headless"), std::string::npos) << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+}
+
+}  // namespace
+}  // namespace rostro::test
