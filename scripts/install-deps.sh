@@ -17,6 +17,8 @@ packages=(
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us
   flite alsa-utils
   liblua5.4-dev
+  # sound for `rostro play --window` (SDL2 audio)
+  libsdl2-dev
   # the window tests (tests/apps/window_test.cpp): an X server without a screen, keys,
   # screenshots
   xvfb xdotool x11-apps imagemagick
