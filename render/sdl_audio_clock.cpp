@@ -1,16 +1,51 @@
 #include "render/sdl_audio_clock.hpp"
 
 #include <SDL.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
 #include "render/render_error.hpp"
 
 namespace rostro::render {
+namespace {
+
+// ALSA writes its own lines to stderr while SDL probes for a device ("ALSA lib confmisc.c:855:
+// cannot find card '0'", ...); SDL's error already says what matters, so stderr is quiet
+// meanwhile (ROSTRO_AUDIO_LOG=1 keeps those lines).
+class QuietStderr {
+ public:
+  QuietStderr() {
+    if (std::getenv("ROSTRO_AUDIO_LOG") != nullptr) return;
+    std::fflush(stderr);
+    saved_ = dup(STDERR_FILENO);
+    const int null = open("/dev/null", O_WRONLY);
+    if (saved_ < 0 || null < 0 || dup2(null, STDERR_FILENO) < 0) restore();
+    if (null >= 0) close(null);
+  }
+  ~QuietStderr() { restore(); }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  void restore() {
+    if (saved_ < 0) return;
+    std::fflush(stderr);
+    dup2(saved_, STDERR_FILENO);
+    close(saved_);
+    saved_ = -1;
+  }
+  int saved_ = -1;
+};
+
+}  // namespace
 
 struct SdlAudioClock::Impl {
   std::vector<std::int16_t> samples;
@@ -41,6 +76,7 @@ SdlAudioClock::SdlAudioClock(std::vector<std::int16_t> samples, int sample_rate)
   if (sample_rate <= 0) throw std::invalid_argument("audio sample rate must be above 0");
   impl_->samples = std::move(samples);
   impl_->rate = sample_rate;
+  QuietStderr quiet;
   if (SDL_InitSubSystem(SDL_INIT_AUDIO) != 0)
     throw RenderUnavailable(std::string("no audio (SDL: ") + SDL_GetError() + ")");
   SDL_AudioSpec want{};
