@@ -22,7 +22,13 @@
 #include "render/fap_assignments.hpp"
 #include "render/fap_stream_source.hpp"
 #include "render/frame_sink.hpp"
+#include "render/player.hpp"
+#include "render/render_error.hpp"
+#include "render/sdl_audio_clock.hpp"
 #include "render/video_writer.hpp"
+#include "render/window_player.hpp"
+#include "render/window_renderer.hpp"
+#include "speech/audio.hpp"
 
 namespace rostro::app {
 namespace {
@@ -44,6 +50,7 @@ struct PlayOptions {
   std::string expression;
   int intensity = 63;
   double fps = 25.0;
+  bool window = false;
   ViewOptions view;
 };
 
@@ -101,32 +108,104 @@ int viseme_index(const std::string& name) {
   throw InputError(fmt::format("viseme '{}': expected 0..14 or one of {}", name, names));
 }
 
-void play(const PlayOptions& o) {
-  if (o.output.empty() && o.frames.empty()) {
-    throw InputError("play: give -o OUT.mp4 or --frames DIR (or both)");
-  }
+// The stream the user asked for, checked before any output exists.
+std::unique_ptr<FapSource> open_play_source(const PlayOptions& o) {
   if (o.input.empty() == o.expression.empty()) {
     throw InputError("play: give either a FAP file or --expression NAME");
   }
-  const render::CameraPose pose = render::parse_camera(o.view.camera);
-  const render::RenderOptions options = render_options(o.view);
   if (!o.expression.empty()) check_fps(o.fps, "--fps");
-
-  // Check everything the user gave before any output exists.
-  std::unique_ptr<FapSource> source;
   if (!o.input.empty()) {
     if (!fs::exists(o.input)) throw InputError(o.input + ": no such file");
     if (fap_format_for(o.input) == FapFormat::Fap) {
       const auto problems = validate_fap_file(o.input, 1);
       if (!problems.empty()) throw InputError(problems.front());
     }
-    source = open_fap_source(o.input);
-  } else {
-    render::ClipTiming timing;
-    timing.fps = o.fps;
-    source = std::make_unique<render::FapStreamSource>(
-        render::expression_clip(expression_select(o.expression), o.intensity, timing));
+    return open_fap_source(o.input);
   }
+  render::ClipTiming timing;
+  timing.fps = o.fps;
+  return std::make_unique<render::FapStreamSource>(
+      render::expression_clip(expression_select(o.expression), o.intensity, timing));
+}
+
+// Passes the window's commands on, and a Ctrl-C as Quit.
+struct InterruptibleView : render::PlayerView {
+  render::PlayerView& view;
+  const InterruptScope& interrupt;
+  InterruptibleView(render::PlayerView& v, const InterruptScope& i) : view(v), interrupt(i) {}
+  void show(long frame, double clock_s) override { view.show(frame, clock_s); }
+  std::vector<render::PlayerCommand> poll() override {
+    auto commands = view.poll();
+    if (interrupt.requested()) commands.push_back(render::PlayerCommand::Quit);
+    return commands;
+  }
+  void wait() override { view.wait(); }
+};
+
+// `play --window`: real time on the audio clock (or the system clock without --audio).
+void play_window(const PlayOptions& o) {
+  if (!o.output.empty() || !o.frames.empty())
+    throw InputError("play: --window shows the stream; leave out -o and --frames");
+  const render::CameraPose pose = render::parse_camera(o.view.camera);
+  render_options(o.view);  // checks the size
+  FapStream stream;
+  {
+    auto source = open_play_source(o);
+    stream.header = source->header();
+    FapFrame frame;
+    while (source->next(frame)) stream.frames.push_back(frame);
+  }
+  if (stream.frames.empty()) throw InputError("play: the stream has no frames");
+  speech::Audio audio;
+  if (!o.audio.empty()) audio = speech::read_wav(o.audio);
+  const FaceModel model = load_model(o.view);
+  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const Deformer deformer(model, &library);
+
+  render::WindowOptions wo;
+  wo.width = o.view.width;
+  wo.height = o.view.height;
+  wo.samples = o.view.samples;
+  wo.title = "rostro play: " + (o.input.empty() ? o.expression : o.input);
+  wo.no_display = "no display for the playback window; render a video with -o OUT.mp4 instead";
+  render::WindowRenderer window(wo);
+  window.set_mesh(render::to_render_mesh(model));
+
+  std::unique_ptr<render::PlaybackClock> clock;
+  if (!o.audio.empty()) {
+    try {
+      auto sdl = std::make_unique<render::SdlAudioClock>(audio.samples, audio.sample_rate);
+      std::fprintf(stderr, "rostro play: sound through %s\n", sdl->description().c_str());
+      clock = std::move(sdl);
+    } catch (const render::RenderUnavailable& e) {
+      std::fprintf(stderr, "rostro play: %s; playing without sound\n", e.what());
+    }
+  }
+  if (!clock) clock = std::make_unique<render::SteadyPlaybackClock>();
+
+  render::WindowPlayerView window_view(window, deformer, stream, pose,
+                                       render::portrait_bounds(model, window.mesh_bounds()),
+                                       wo.title);
+  InterruptScope interrupt;
+  InterruptibleView view(window_view, interrupt);
+  render::PlayerOptions po;
+  po.fps = stream.header.fps;
+  po.frame_count = static_cast<long>(stream.frames.size());
+  po.duration_s = audio.duration_s();
+  const render::PlayerReport report = render::play_on_clock(po, *clock, view);
+  std::printf("played %ld of %zu frames (%ld skipped) to %.2f s%s\n", report.frames_shown,
+              stream.frames.size(), report.frames_skipped, report.end_s,
+              report.quit ? ", stopped by the user" : "");
+}
+
+void play(const PlayOptions& o) {
+  if (o.window) return play_window(o);
+  if (o.output.empty() && o.frames.empty()) {
+    throw InputError("play: give -o OUT.mp4, --frames DIR or --window");
+  }
+  const render::CameraPose pose = render::parse_camera(o.view.camera);
+  const render::RenderOptions options = render_options(o.view);
+  std::unique_ptr<FapSource> source = open_play_source(o);
   const FapHeader header = source->header();
   const FaceModel model = load_model(o.view);
   const ExpressionLibrary library = ExpressionLibrary::load_default();
@@ -138,7 +217,7 @@ void play(const PlayOptions& o) {
     video_options.audio = o.audio;
     video = std::make_unique<render::VideoWriter>(o.output, video_options);
   } else if (!o.audio.empty()) {
-    throw InputError("--audio needs a video output (-o OUT.mp4)");
+    throw InputError("--audio needs a video output (-o OUT.mp4) or --window");
   }
   std::unique_ptr<render::FrameSink> frames;
   if (!o.frames.empty()) frames = std::make_unique<render::FrameFolderWriter>(o.frames);
@@ -260,7 +339,11 @@ void add_play_commands(CLI::App& app) {
                        "video file (.mp4); written whole or not at all");
   play_cmd->add_option("--frames", play_options.frames, "also (or instead) write PNGs here");
   play_cmd->add_option("--audio", play_options.audio,
-                       "WAV to mux into the video; frame k plays at audio time k/fps");
+                       "WAV to mux into the video, or to play with --window; frame k plays at "
+                       "audio time k/fps");
+  play_cmd->add_flag("--window", play_options.window,
+                     "play in real time in a window, on the audio clock with --audio (Space "
+                     "pauses, Left/Right seek 5 s, Home restarts, Q quits)");
   play_cmd->add_option("--expression", play_options.expression,
                        "instead of FILE: a short neutral-to-expression clip (joy, sadness, "
                        "anger, fear, disgust, surprise)");
@@ -274,6 +357,7 @@ void add_play_commands(CLI::App& app) {
       "Example:\n"
       "  rostro play ../shared/fixtures/xface/joy.fap -o joy.mp4 --camera three-quarter\n"
       "  rostro play hola.fap --audio hola.wav -o hola.mp4\n"
+      "  rostro play hola.fap --audio hola.wav --window\n"
       "  rostro play --expression surprise --frames surprise/");
   play_cmd->callback([] { play(play_options); });
 

@@ -5,87 +5,82 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include <mutex>
+#include <optional>
 #include <string>
 
+#include "render/glfw_session.hpp"
 #include "render/render_error.hpp"
 
 namespace rostro::render {
 namespace {
 
-std::string& last_glfw_error() {
-  static std::string message;
-  return message;
-}
-
-void remember_glfw_error(int code, const char* description) {
-  last_glfw_error() =
-      "GLFW error " + std::to_string(code) + ": " + (description ? description : "");
-}
-
-// glfwInit/glfwTerminate are process-wide; windows count their users.
-std::mutex glfw_mutex;
-int glfw_users = 0;
-
-void acquire_glfw() {
-  std::lock_guard lock(glfw_mutex);
-  if (glfw_users == 0) {
-    glfwSetErrorCallback(remember_glfw_error);
-    if (glfwInit() != GLFW_TRUE) {
-      throw RenderUnavailable("no window system for an OpenGL window (" + last_glfw_error() + ")");
-    }
+std::optional<WindowKey> window_key(int key) {
+  switch (key) {
+    case GLFW_KEY_SPACE:
+      return WindowKey::Space;
+    case GLFW_KEY_LEFT:
+      return WindowKey::Left;
+    case GLFW_KEY_RIGHT:
+      return WindowKey::Right;
+    case GLFW_KEY_UP:
+      return WindowKey::Up;
+    case GLFW_KEY_DOWN:
+      return WindowKey::Down;
+    case GLFW_KEY_HOME:
+      return WindowKey::Home;
+    case GLFW_KEY_Q:
+    case GLFW_KEY_ESCAPE:
+      return WindowKey::Quit;
+    default:
+      return std::nullopt;
   }
-  ++glfw_users;
-}
-
-void release_glfw() {
-  std::lock_guard lock(glfw_mutex);
-  if (--glfw_users == 0) glfwTerminate();
 }
 
 }  // namespace
 
 struct WindowRenderer::Window {
+  explicit Window(const std::string& no_display) : glfw(no_display) {}
+  ~Window() {
+    if (handle == nullptr) return;
+    glfwMakeContextCurrent(handle);
+    drawer.reset();
+    glfwDestroyWindow(handle);
+  }
+  GlfwSession glfw;  // declared first: outlives the window
   GLFWwindow* handle = nullptr;
   std::unique_ptr<GlMeshDrawer> drawer;
+  std::vector<WindowKey> keys;
 };
 
-WindowRenderer::WindowRenderer(const WindowOptions& options) : options_(options) {
-  acquire_glfw();
+WindowRenderer::WindowRenderer(const WindowOptions& options)
+    : options_(options), window_(std::make_unique<Window>(options.no_display)) {
+  glfwDefaultWindowHints();
+  glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_EGL_CONTEXT_API);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_SAMPLES, options.samples > 1 ? options.samples : 0);
-  GLFWwindow* handle =
+  window_->handle =
       glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr, nullptr);
-  if (handle == nullptr) {
-    release_glfw();
-    throw RenderUnavailable("cannot open an OpenGL 3.3 window (" + last_glfw_error() + ")");
+  if (window_->handle == nullptr) {
+    throw RenderUnavailable("cannot open an OpenGL 3.3 window (" + GlfwSession::last_error() + ")");
   }
-  glfwMakeContextCurrent(handle);
+  glfwMakeContextCurrent(window_->handle);
   glfwSwapInterval(options.vsync ? 1 : 0);
-  glfwSetKeyCallback(handle, [](GLFWwindow* w, int key, int, int action, int) {
-    if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(w, GLFW_TRUE);
+  glfwSetWindowUserPointer(window_->handle, window_.get());
+  glfwSetKeyCallback(window_->handle, [](GLFWwindow* w, int key, int, int action, int) {
+    if (action == GLFW_RELEASE) return;  // presses and auto-repeats (holding an arrow seeks on)
+    const std::optional<WindowKey> k = window_key(key);
+    if (!k) return;
+    static_cast<Window*>(glfwGetWindowUserPointer(w))->keys.push_back(*k);
+    if (*k == WindowKey::Quit) glfwSetWindowShouldClose(w, GLFW_TRUE);
   });
-  window_ = std::make_unique<Window>();
-  window_->handle = handle;
-  try {
-    window_->drawer = std::make_unique<GlMeshDrawer>();
-  } catch (...) {
-    glfwDestroyWindow(handle);
-    release_glfw();
-    throw;
-  }
+  window_->drawer = std::make_unique<GlMeshDrawer>();
   if (options.samples > 1) glEnable(GL_MULTISAMPLE);
 }
 
-WindowRenderer::~WindowRenderer() {
-  glfwMakeContextCurrent(window_->handle);
-  window_->drawer.reset();
-  glfwDestroyWindow(window_->handle);
-  release_glfw();
-}
+WindowRenderer::~WindowRenderer() = default;
 
 void WindowRenderer::set_mesh(const RenderMesh& mesh) {
   glfwMakeContextCurrent(window_->handle);
@@ -117,6 +112,20 @@ void WindowRenderer::draw(const CameraPose& pose, const Bounds& frame) {
     glfwSwapBuffers(window_->handle);
   }
   glfwPollEvents();
+}
+
+void WindowRenderer::poll() {
+  glfwPollEvents();
+}
+
+std::vector<WindowKey> WindowRenderer::take_keys() {
+  std::vector<WindowKey> keys;
+  keys.swap(window_->keys);
+  return keys;
+}
+
+void WindowRenderer::set_title(const std::string& title) {
+  glfwSetWindowTitle(window_->handle, title.c_str());
 }
 
 bool WindowRenderer::should_close() const {

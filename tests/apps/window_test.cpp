@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
@@ -150,6 +152,66 @@ TEST(Window, LiveShowsCameraAndHeadAndItsKeysDoWhatTheySay) {
   EXPECT_TRUE(std::regex_search(info, std::regex("frames +[1-9]"))) << info;
 }
 
+TEST(Window, PlayShowsTheHeadOnTheAudioClockAndItsKeysWork) {
+  need_x();
+  if (IsSkipped()) return;
+  XDisplay x;
+  ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
+  const fs::path dir = scratch("play");
+  shell(kRostro + " fap generate --seconds 24 --fps 25 -o " + (dir / "drive.fap").string());
+  // 10 s of a quiet tone: the audio clock the picture follows (SDL's dummy driver plays it
+  // nowhere, at the pace of a sound card).
+  const fs::path wav = dir / "tone.wav";
+  {
+    const std::uint32_t rate = 16000, count = 10 * rate, bytes = 2 * count;
+    std::ofstream f(wav, std::ios::binary);
+    auto u32 = [&](std::uint32_t v) { f.write(reinterpret_cast<const char*>(&v), 4); };
+    auto u16 = [&](std::uint16_t v) { f.write(reinterpret_cast<const char*>(&v), 2); };
+    f << "RIFF";
+    u32(36 + bytes);
+    f << "WAVEfmt ";
+    u32(16), u16(1), u16(1), u32(rate), u32(2 * rate), u16(2), u16(16);
+    f << "data";
+    u32(bytes);
+    for (std::uint32_t i = 0; i < count; ++i)
+      u16(static_cast<std::uint16_t>(i % 40 < 20 ? 800 : -800));
+  }
+  const fs::path out = dir / "out.txt", err = dir / "err.txt";
+  Background play(x.env() + "SDL_AUDIODRIVER=dummy " + kRostro + " play " +
+                      (dir / "drive.fap").string() + " --window --audio " + wav.string(),
+                  out, err);
+  const std::string window = x.find_window("rostro play", seconds(60));
+  ASSERT_FALSE(window.empty()) << read_text(err);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const fs::path png = dir / "play-window.png";
+  ASSERT_TRUE(x.screenshot(png));
+  const cv::Mat screen = cv::imread(png.string());
+  const cv::Size size = window_size(x, window);
+  ASSERT_EQ(size, cv::Size(640, 480));
+  EXPECT_GT(drawn_share(screen(cv::Rect(0, 0, 640, 480))), 0.15) << png;
+  EXPECT_NE(read_text(err).find("sound through dummy"), std::string::npos) << read_text(err);
+
+  // Space pauses: the title's clock stands still.
+  x.key(window, "space");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const std::string title = shell(x.env() + "xdotool getwindowname " + window);
+  EXPECT_NE(title.find("(paused)"), std::string::npos) << title;
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_EQ(shell(x.env() + "xdotool getwindowname " + window), title);
+  // Right seeks 5 s on (from paused, the clock jumps by exactly that).
+  x.key(window, "Right");
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  std::smatch before, after;
+  const std::string seeked = shell(x.env() + "xdotool getwindowname " + window);
+  ASSERT_TRUE(std::regex_search(title, before, std::regex("frame (\\d+)/"))) << title;
+  ASSERT_TRUE(std::regex_search(seeked, after, std::regex("frame (\\d+)/"))) << seeked;
+  EXPECT_NEAR(static_cast<double>(std::stol(after[1]) - std::stol(before[1])), 125, 1)
+      << title << " / " << seeked;
+  x.key(window, "q");
+  ASSERT_EQ(play.wait_for(seconds(30)), 0) << read_text(err);
+  EXPECT_NE(read_text(out).find("stopped by the user"), std::string::npos) << read_text(out);
+}
+
 TEST(Window, WithoutADisplayEachWindowCommandSaysSoInOneLine) {
   const fs::path dir = scratch("no-display");
   ASSERT_EQ(make_clip(dir, 1), "");
@@ -161,6 +223,10 @@ TEST(Window, WithoutADisplayEachWindowCommandSaysSoInOneLine) {
   EXPECT_EQ(code, 1);
   EXPECT_NE(text.find("no display for the live window"), std::string::npos) << text;
   EXPECT_NE(text.find("use --headless"), std::string::npos) << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  text = shell(no_display + kRostro + " play " + (dir / "drive.fap").string() + " --window", &code);
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(text.find("no display for the playback window"), std::string::npos) << text;
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
 }
 
