@@ -9,6 +9,16 @@
 #include "render/face_renderer.hpp"
 
 namespace rostro::render {
+namespace {
+
+constexpr std::pair<WindowKey, PlayerCommand> kCommands[] = {
+    {WindowKey::Space, PlayerCommand::TogglePause},
+    {WindowKey::Left, PlayerCommand::SeekBack},
+    {WindowKey::Right, PlayerCommand::SeekForward},
+    {WindowKey::Home, PlayerCommand::Restart},
+    {WindowKey::Quit, PlayerCommand::Quit}};
+
+}  // namespace
 
 WindowPlayerView::WindowPlayerView(WindowRenderer& window, const Deformer& deformer,
                                    const FapStream& stream, const CameraPose& pose,
@@ -33,26 +43,12 @@ std::vector<PlayerCommand> WindowPlayerView::poll() {
   window_.poll();
   std::vector<PlayerCommand> commands;
   for (const WindowKey key : window_.take_keys()) {
-    switch (key) {
-      case WindowKey::Space:
-        paused_ = !paused_;
-        update_title(-1);
-        commands.push_back(PlayerCommand::TogglePause);
-        break;
-      case WindowKey::Left:
-        commands.push_back(PlayerCommand::SeekBack);
-        break;
-      case WindowKey::Right:
-        commands.push_back(PlayerCommand::SeekForward);
-        break;
-      case WindowKey::Home:
-        commands.push_back(PlayerCommand::Restart);
-        break;
-      case WindowKey::Quit:
-        commands.push_back(PlayerCommand::Quit);
-        break;
-      default:
-        break;
+    for (const auto& [k, command] : kCommands) {
+      if (k == key) commands.push_back(command);
+    }
+    if (key == WindowKey::Space) {
+      paused_ = !paused_;
+      update_title(-1);
     }
   }
   if (window_.should_close() && (commands.empty() || commands.back() != PlayerCommand::Quit))

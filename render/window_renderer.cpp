@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "render/glfw_session.hpp"
 #include "render/render_error.hpp"
@@ -14,26 +15,18 @@
 namespace rostro::render {
 namespace {
 
+// The GLFW keys a window reports, and what it reports them as.
+constexpr std::pair<int, WindowKey> kKeys[] = {
+    {GLFW_KEY_SPACE, WindowKey::Space}, {GLFW_KEY_LEFT, WindowKey::Left},
+    {GLFW_KEY_RIGHT, WindowKey::Right}, {GLFW_KEY_UP, WindowKey::Up},
+    {GLFW_KEY_DOWN, WindowKey::Down},   {GLFW_KEY_HOME, WindowKey::Home},
+    {GLFW_KEY_Q, WindowKey::Quit},      {GLFW_KEY_ESCAPE, WindowKey::Quit}};
+
 std::optional<WindowKey> window_key(int key) {
-  switch (key) {
-    case GLFW_KEY_SPACE:
-      return WindowKey::Space;
-    case GLFW_KEY_LEFT:
-      return WindowKey::Left;
-    case GLFW_KEY_RIGHT:
-      return WindowKey::Right;
-    case GLFW_KEY_UP:
-      return WindowKey::Up;
-    case GLFW_KEY_DOWN:
-      return WindowKey::Down;
-    case GLFW_KEY_HOME:
-      return WindowKey::Home;
-    case GLFW_KEY_Q:
-    case GLFW_KEY_ESCAPE:
-      return WindowKey::Quit;
-    default:
-      return std::nullopt;
+  for (const auto& [glfw, ours] : kKeys) {
+    if (glfw == key) return ours;
   }
+  return std::nullopt;
 }
 
 }  // namespace

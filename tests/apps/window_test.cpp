@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
@@ -70,13 +71,22 @@ cv::Size window_size(const XDisplay& x, const std::string& window) {
   return {std::stoi(m[1]), std::stoi(m[2])};
 }
 
-// Skips the test (the caller returns when IsSkipped()) without the tools for a window.
-void need_x() {
-  const std::string missing = XDisplay::missing_tools();
-  if (!missing.empty())
-    GTEST_SKIP() << "window tests need " << missing
-                 << " (Debian: xvfb xdotool x11-apps imagemagick)";
-}
+// A test on its own Xvfb display, x(); skipped, naming what is missing, without the tools.
+class WindowOnXvfb : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string missing = XDisplay::missing_tools();
+    if (!missing.empty())
+      GTEST_SKIP() << "window tests need " << missing
+                   << " (Debian: xvfb xdotool x11-apps imagemagick)";
+    x_ = std::make_unique<XDisplay>();
+    ASSERT_FALSE(x_->name().empty()) << "Xvfb did not start";
+  }
+  const XDisplay& x() const { return *x_; }
+
+ private:
+  std::unique_ptr<XDisplay> x_;
+};
 
 // A marker clip in `dir`: 1 s neutral (the calibration), then `motion_s` seconds of motion drawn
 // from drive.fap, which is left beside it. Returns rostro's output if it failed, else "".
@@ -90,11 +100,8 @@ std::string make_clip(const fs::path& dir, int motion_s) {
   return code == 0 ? "" : out;
 }
 
-TEST(Window, LiveShowsCameraAndHeadAndItsKeysDoWhatTheySay) {
-  need_x();
-  if (IsSkipped()) return;
-  XDisplay x;
-  ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
+TEST_F(WindowOnXvfb, LiveShowsCameraAndHeadAndItsKeysDoWhatTheySay) {
+  const XDisplay& x = this->x();
   const fs::path dir = scratch("live");
   ASSERT_EQ(make_clip(dir, 24), "");
   const fs::path clip = dir / "clip.mp4";
@@ -152,11 +159,8 @@ TEST(Window, LiveShowsCameraAndHeadAndItsKeysDoWhatTheySay) {
   EXPECT_TRUE(std::regex_search(info, std::regex("frames +[1-9]"))) << info;
 }
 
-TEST(Window, PlayShowsTheHeadOnTheAudioClockAndItsKeysWork) {
-  need_x();
-  if (IsSkipped()) return;
-  XDisplay x;
-  ASSERT_FALSE(x.name().empty()) << "Xvfb did not start";
+TEST_F(WindowOnXvfb, PlayShowsTheHeadOnTheAudioClockAndItsKeysWork) {
+  const XDisplay& x = this->x();
   const fs::path dir = scratch("play");
   shell(kRostro + " fap generate --seconds 24 --fps 25 -o " + (dir / "drive.fap").string());
   // 10 s of a quiet tone: the audio clock the picture follows (SDL's dummy driver plays it
