@@ -17,12 +17,14 @@ namespace {
 
 // The GLFW keys a window reports, and what it reports them as.
 constexpr std::pair<int, WindowKey> kKeys[] = {
-    {GLFW_KEY_SPACE, WindowKey::Space}, {GLFW_KEY_LEFT, WindowKey::Left},
-    {GLFW_KEY_RIGHT, WindowKey::Right}, {GLFW_KEY_UP, WindowKey::Up},
-    {GLFW_KEY_DOWN, WindowKey::Down},   {GLFW_KEY_HOME, WindowKey::Home},
-    {GLFW_KEY_Q, WindowKey::Quit},      {GLFW_KEY_ESCAPE, WindowKey::Quit}};
+    {GLFW_KEY_SPACE, WindowKey::Space},    {GLFW_KEY_LEFT, WindowKey::Left},
+    {GLFW_KEY_RIGHT, WindowKey::Right},    {GLFW_KEY_UP, WindowKey::Up},
+    {GLFW_KEY_DOWN, WindowKey::Down},      {GLFW_KEY_HOME, WindowKey::Home},
+    {GLFW_KEY_PAGE_UP, WindowKey::PageUp}, {GLFW_KEY_PAGE_DOWN, WindowKey::PageDown},
+    {GLFW_KEY_Q, WindowKey::Quit},         {GLFW_KEY_ESCAPE, WindowKey::Quit}};
 
-std::optional<WindowKey> window_key(int key) {
+std::optional<WindowKey> window_key(int key, int mods) {
+  if (key == GLFW_KEY_S && (mods & GLFW_MOD_CONTROL) != 0) return WindowKey::Save;
   for (const auto& [glfw, ours] : kKeys) {
     if (glfw == key) return ours;
   }
@@ -62,9 +64,9 @@ WindowRenderer::WindowRenderer(const WindowOptions& options)
   glfwMakeContextCurrent(window_->handle);
   glfwSwapInterval(options.vsync ? 1 : 0);
   glfwSetWindowUserPointer(window_->handle, window_.get());
-  glfwSetKeyCallback(window_->handle, [](GLFWwindow* w, int key, int, int action, int) {
+  glfwSetKeyCallback(window_->handle, [](GLFWwindow* w, int key, int, int action, int mods) {
     if (action == GLFW_RELEASE) return;  // presses and auto-repeats (holding an arrow seeks on)
-    const std::optional<WindowKey> k = window_key(key);
+    const std::optional<WindowKey> k = window_key(key, mods);
     if (!k) return;
     static_cast<Window*>(glfwGetWindowUserPointer(w))->keys.push_back(*k);
     if (*k == WindowKey::Quit) glfwSetWindowShouldClose(w, GLFW_TRUE);
@@ -94,17 +96,35 @@ void WindowRenderer::draw(const CameraPose& pose) {
 }
 
 void WindowRenderer::draw(const CameraPose& pose, const Bounds& frame) {
-  glfwMakeContextCurrent(window_->handle);
   int width = 0;
   int height = 0;
-  glfwGetFramebufferSize(window_->handle, &width, &height);
+  framebuffer_size(width, height);
   if (width > 0 && height > 0) {
-    const CameraMatrices camera = frame_camera(pose, frame, static_cast<double>(width) / height);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    window_->drawer->draw(camera, width, height, options_.shading);
-    glfwSwapBuffers(window_->handle);
+    draw_into(pose, frame, 0, 0, width, height);
+    present();
   }
   glfwPollEvents();
+}
+
+void WindowRenderer::draw_into(const CameraPose& pose, const Bounds& frame, int x, int y, int width,
+                               int height) {
+  glfwMakeContextCurrent(window_->handle);
+  if (width <= 0 || height <= 0) return;
+  const CameraMatrices camera = frame_camera(pose, frame, static_cast<double>(width) / height);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  window_->drawer->draw(camera, width, height, options_.shading, x, y);
+}
+
+void WindowRenderer::present() {
+  glfwSwapBuffers(window_->handle);
+}
+
+void WindowRenderer::framebuffer_size(int& width, int& height) const {
+  glfwGetFramebufferSize(window_->handle, &width, &height);
+}
+
+GLFWwindow* WindowRenderer::glfw_window() const {
+  return window_->handle;
 }
 
 void WindowRenderer::poll() {

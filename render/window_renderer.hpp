@@ -13,6 +13,8 @@
 #include "render/gl_mesh_drawer.hpp"
 #include "render/render_mesh.hpp"
 
+struct GLFWwindow;
+
 namespace rostro::render {
 
 struct WindowOptions {
@@ -26,8 +28,9 @@ struct WindowOptions {
   std::string no_display = "no display for an OpenGL window";
 };
 
-// The keys a window reports; Quit is Q or Escape (or closing the window).
-enum class WindowKey { Space, Left, Right, Up, Down, Home, Quit };
+// The keys a window reports; Quit is Q or Escape (or closing the window), Save is Ctrl+S.
+// Every press is queued, so none is lost between two frames.
+enum class WindowKey { Space, Left, Right, Up, Down, Home, PageUp, PageDown, Save, Quit };
 
 class WindowRenderer {
  public:
@@ -43,6 +46,14 @@ class WindowRenderer {
   // Draws one frame framed on the mesh's bounds, shows it and handles window events.
   void draw(const CameraPose& pose);
   void draw(const CameraPose& pose, const Bounds& frame);
+  // For a user interface drawn over the head (rostro edit): draws the head into the
+  // rectangle (x, y from the lower left, in framebuffer pixels) without showing it yet;
+  // present() shows the finished frame.
+  void draw_into(const CameraPose& pose, const Bounds& frame, int x, int y, int width, int height);
+  void present();
+  // The framebuffer's size in pixels (it may differ from the window's on a HiDPI screen).
+  void framebuffer_size(int& width, int& height) const;
+  GLFWwindow* glfw_window() const;
   // Handles window events without drawing.
   void poll();
   // The keys pressed since the last call, oldest first.
