@@ -11,6 +11,7 @@
 #include "apps/commands.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
+#include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
 #include "facecore/face_model.hpp"
@@ -20,6 +21,7 @@
 #include "render/expression_clip.hpp"
 #include "render/face_renderer.hpp"
 #include "render/fap_assignments.hpp"
+#include "render/fap_editor.hpp"
 #include "render/fap_stream_source.hpp"
 #include "render/frame_sink.hpp"
 #include "render/player.hpp"
@@ -38,7 +40,8 @@ struct ViewOptions {
   int width = 640;
   int height = 480;
   std::string camera = "front";
-  std::string head;  // a face model description; empty: the default head
+  std::string head;                  // a face model description; empty: the default head
+  std::string expressions, visemes;  // libraries; empty: data/expressions.json, visemes.json
   int samples = 4;
 };
 
@@ -51,6 +54,13 @@ struct PlayOptions {
   int intensity = 63;
   double fps = 25.0;
   bool window = false;
+  ViewOptions view;
+};
+
+struct EditOptions {
+  std::string entry = "neutral";
+  std::string select;
+  std::string export_prefix = "pose";
   ViewOptions view;
 };
 
@@ -72,6 +82,15 @@ void add_view_options(CLI::App* cmd, ViewOptions& view) {
       ->capture_default_str();
   cmd->add_option("--head", view.head, "face model description (.json beside an .obj)");
   cmd->add_option("--samples", view.samples, "multisampling (1 = off)")->capture_default_str();
+  cmd->add_option("--expressions", view.expressions,
+                  "expression library (default data/expressions.json), e.g. from rostro edit");
+  cmd->add_option("--visemes", view.visemes, "viseme library (default data/visemes.json)");
+}
+
+ExpressionLibrary load_library(const ViewOptions& view) {
+  return ExpressionLibrary::load(
+      view.expressions.empty() ? data_file("expressions.json") : fs::path(view.expressions),
+      view.visemes.empty() ? data_file("visemes.json") : fs::path(view.visemes));
 }
 
 FaceModel load_model(const ViewOptions& view) {
@@ -159,7 +178,7 @@ void play_window(const PlayOptions& o) {
   speech::Audio audio;
   if (!o.audio.empty()) audio = speech::read_wav(o.audio);
   const FaceModel model = load_model(o.view);
-  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const ExpressionLibrary library = load_library(o.view);
   const Deformer deformer(model, &library);
 
   render::WindowOptions wo;
@@ -208,7 +227,7 @@ void play(const PlayOptions& o) {
   std::unique_ptr<FapSource> source = open_play_source(o);
   const FapHeader header = source->header();
   const FaceModel model = load_model(o.view);
-  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const ExpressionLibrary library = load_library(o.view);
 
   std::unique_ptr<render::FrameSink> video;
   if (!o.output.empty()) {
@@ -321,11 +340,33 @@ void pose_command(const PoseOptions& o) {
     throw InputError("--sheet draws its own poses; leave out FAPs, --expression and --viseme");
   }
   const FaceModel model = load_model(o.view);
-  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const ExpressionLibrary library = load_library(o.view);
   render::FaceRenderer face(model, &library, options);
   const cv::Mat image = o.sheet ? make_sheet(face, pose) : face.render(frame, pose);
   render::write_image(o.output, image);
   std::printf("%s: %dx%d\n", o.output.c_str(), image.cols, image.rows);
+}
+
+void edit_command(const EditOptions& o) {
+  render::EditorOptions eo;
+  eo.expressions =
+      o.view.expressions.empty() ? data_file("expressions.json") : fs::path(o.view.expressions);
+  eo.visemes = o.view.visemes.empty() ? data_file("visemes.json") : fs::path(o.view.visemes);
+  eo.entry = o.entry;
+  eo.select = o.select;
+  eo.export_prefix = o.export_prefix;
+  eo.camera = render::parse_camera(o.view.camera);
+  render_options(o.view);  // checks the size
+  eo.width = o.view.width;
+  eo.height = o.view.height;
+  eo.log = [](const std::string& text) {
+    std::printf("%s\n", text.c_str());
+    std::fflush(stdout);  // seen as it happens, also when stdout is a file
+  };
+  render::editor_entry(o.entry);  // an unknown entry is one line before any window opens
+  const FaceModel model = load_model(o.view);
+  ExpressionLibrary library = ExpressionLibrary::load(eo.expressions, eo.visemes);
+  if (render::run_fap_editor(model, library, eo)) std::printf("edits not saved (Ctrl+S saves)\n");
 }
 
 }  // namespace
@@ -382,6 +423,32 @@ void add_play_commands(CLI::App& app) {
       "  rostro pose --expression joy --camera three-quarter -o joy.png\n"
       "  rostro pose --sheet --width 320 --height 320 -o docs/images/contact-sheet.png");
   pose_cmd->callback([] { pose_command(pose_options); });
+
+  static EditOptions edit_options;
+  edit_options.view.width = 1280;
+  edit_options.view.height = 800;
+  CLI::App* edit_cmd = app.add_subcommand(
+      "edit", "Edit the expression and viseme libraries on the head, in a window");
+  edit_cmd
+      ->add_option("--entry", edit_options.entry,
+                   "entry to edit first: neutral, joy, ..., or a viseme (aa, p_b_m, ...)")
+      ->capture_default_str();
+  edit_cmd->add_option("--select", edit_options.select,
+                       "FAP that PageUp/PageDown nudge first (a name, e.g. open_jaw)");
+  edit_cmd
+      ->add_option("--export", edit_options.export_prefix,
+                   "prefix of the pose export: PREFIX.fap and PREFIX.png")
+      ->capture_default_str();
+  add_view_options(edit_cmd, edit_options.view);
+  edit_cmd->footer(
+      "A slider per FAP, grouped as in MPEG-4; drag on the head to orbit. PageUp/PageDown\n"
+      "nudge the selected FAP, Ctrl+S saves both libraries (each file whole or not at all) to\n"
+      "--expressions/--visemes (default: data/), Escape quits. Needs a display.\n\n"
+      "Example:\n"
+      "  cp data/expressions.json data/visemes.json /tmp/\n"
+      "  rostro edit --expressions /tmp/expressions.json --visemes /tmp/visemes.json --entry joy\n"
+      "  rostro pose --expression joy --expressions /tmp/expressions.json -o joy.png");
+  edit_cmd->callback([] { edit_command(edit_options); });
 }
 
 }  // namespace rostro::app

@@ -216,6 +216,62 @@ TEST_F(WindowOnXvfb, PlayShowsTheHeadOnTheAudioClockAndItsKeysWork) {
   EXPECT_NE(read_text(out).find("stopped by the user"), std::string::npos) << read_text(out);
 }
 
+// The share of pixels that changed by more than a little between two images of one size.
+double changed_share(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat diff, grey;
+  cv::absdiff(a, b, diff);
+  cv::extractChannel(diff, grey, 2);
+  return static_cast<double>(cv::countNonZero(grey > 30)) / std::max(1, a.rows * a.cols);
+}
+
+TEST_F(WindowOnXvfb, EditNudgesAFapOnTheHeadAndSavesALibraryThatPoseRenders) {
+  const XDisplay& x = this->x();
+  const fs::path dir = scratch("edit");
+  const fs::path data(ROSTRO_DATA_DIR);
+  fs::copy_file(data / "expressions.json", dir / "expressions.json");
+  fs::copy_file(data / "visemes.json", dir / "visemes.json");
+  const std::string libraries = " --expressions " + (dir / "expressions.json").string() +
+                                " --visemes " + (dir / "visemes.json").string();
+  const fs::path out = dir / "out.txt", err = dir / "err.txt";
+  Background edit(x.env() + kRostro + " edit --entry joy --select open_jaw" + libraries, out, err);
+  const std::string window = x.find_window("rostro edit", seconds(60));
+  ASSERT_FALSE(window.empty()) << read_text(err);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  // The sliders' panel is the left 460 pixels of the 1280x800 window, the head the rest.
+  const cv::Rect head(460, 0, 820, 800);
+  ASSERT_TRUE(x.screenshot(dir / "before.png"));
+  const cv::Mat before = cv::imread((dir / "before.png").string());
+  EXPECT_GT(drawn_share(before(head)), 0.15);
+  EXPECT_GT(light_share(before(cv::Rect(0, 0, 460, 800))), 0.01);  // the sliders' text
+
+  // PageUp x 15 opens the jaw by 15 x 20 MNS units: the mouth in the picture changes.
+  x.key(window,
+        "Prior Prior Prior Prior Prior Prior Prior Prior Prior Prior Prior Prior "
+        "Prior Prior Prior");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  ASSERT_TRUE(x.screenshot(dir / "after.png"));
+  const cv::Mat after = cv::imread((dir / "after.png").string());
+  EXPECT_GT(changed_share(before(head), after(head)), 0.002) << dir;
+  EXPECT_EQ(changed_share(before(cv::Rect(0, 200, 460, 600)), after(cv::Rect(0, 200, 460, 600))),
+            0.0);  // the other sliders stay as they were
+
+  x.key(window, "ctrl+s");
+  EXPECT_TRUE(wait_for_text(out, "saved ", seconds(30))) << read_text(out) << read_text(err);
+  x.key(window, "Escape");
+  ASSERT_EQ(edit.wait_for(seconds(30)), 0) << read_text(err);
+
+  // The saved library: rostro pose draws its joy with the jaw open wider than data/'s.
+  int code = 0;
+  shell(kRostro + " pose --expression joy" + libraries + " -o " + (dir / "edited.png").string(),
+        &code);
+  ASSERT_EQ(code, 0);
+  shell(kRostro + " pose --expression joy -o " + (dir / "default.png").string(), &code);
+  ASSERT_EQ(code, 0);
+  EXPECT_GT(changed_share(cv::imread((dir / "edited.png").string()),
+                          cv::imread((dir / "default.png").string())),
+            0.002);
+}
+
 TEST(Window, WithoutADisplayEachWindowCommandSaysSoInOneLine) {
   const fs::path dir = scratch("no-display");
   ASSERT_EQ(make_clip(dir, 1), "");
@@ -231,6 +287,10 @@ TEST(Window, WithoutADisplayEachWindowCommandSaysSoInOneLine) {
   text = shell(no_display + kRostro + " play " + (dir / "drive.fap").string() + " --window", &code);
   EXPECT_EQ(code, 1);
   EXPECT_NE(text.find("no display for the playback window"), std::string::npos) << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  text = shell(no_display + kRostro + " edit", &code);
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(text.find("no display for the editor"), std::string::npos) << text;
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
 }
 
