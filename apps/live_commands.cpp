@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -56,6 +57,9 @@ void run_live(const LiveArgs& a) {
   o.record = a.record;
 
   live::Pipeline pipeline(std::move(o));
+  // The window first: without a display, that is the one line the user sees.
+  std::optional<live::LiveWindow> window;
+  if (!a.headless) window.emplace(pipeline, "rostro live: " + a.camera);
   if (a.actor.empty())
     std::fprintf(stderr,
                  "rostro live: no --actor given: the first %.1f s calibrate the actor; hold a "
@@ -76,12 +80,7 @@ void run_live(const LiveArgs& a) {
   });
   live::PipelineReport report;
   try {
-    if (a.headless) {
-      report = pipeline.run();
-    } else {
-      live::LiveWindow window(pipeline, "rostro live: " + a.camera);
-      report = pipeline.run(&window);
-    }
+    report = pipeline.run(window ? &*window : nullptr);
   } catch (...) {
     finished = true;
     watcher.join();

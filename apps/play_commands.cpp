@@ -11,6 +11,7 @@
 #include "apps/commands.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/progress.hpp"
+#include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
 #include "facecore/face_model.hpp"
@@ -20,9 +21,16 @@
 #include "render/expression_clip.hpp"
 #include "render/face_renderer.hpp"
 #include "render/fap_assignments.hpp"
+#include "render/fap_editor.hpp"
 #include "render/fap_stream_source.hpp"
 #include "render/frame_sink.hpp"
+#include "render/player.hpp"
+#include "render/render_error.hpp"
+#include "render/sdl_audio_clock.hpp"
 #include "render/video_writer.hpp"
+#include "render/window_player.hpp"
+#include "render/window_renderer.hpp"
+#include "speech/audio.hpp"
 
 namespace rostro::app {
 namespace {
@@ -32,7 +40,8 @@ struct ViewOptions {
   int width = 640;
   int height = 480;
   std::string camera = "front";
-  std::string head;  // a face model description; empty: the default head
+  std::string head;                  // a face model description; empty: the default head
+  std::string expressions, visemes;  // libraries; empty: data/expressions.json, visemes.json
   int samples = 4;
 };
 
@@ -44,6 +53,14 @@ struct PlayOptions {
   std::string expression;
   int intensity = 63;
   double fps = 25.0;
+  bool window = false;
+  ViewOptions view;
+};
+
+struct EditOptions {
+  std::string entry = "neutral";
+  std::string select;
+  std::string export_prefix = "pose";
   ViewOptions view;
 };
 
@@ -65,6 +82,15 @@ void add_view_options(CLI::App* cmd, ViewOptions& view) {
       ->capture_default_str();
   cmd->add_option("--head", view.head, "face model description (.json beside an .obj)");
   cmd->add_option("--samples", view.samples, "multisampling (1 = off)")->capture_default_str();
+  cmd->add_option("--expressions", view.expressions,
+                  "expression library (default data/expressions.json), e.g. from rostro edit");
+  cmd->add_option("--visemes", view.visemes, "viseme library (default data/visemes.json)");
+}
+
+ExpressionLibrary load_library(const ViewOptions& view) {
+  return ExpressionLibrary::load(
+      view.expressions.empty() ? data_file("expressions.json") : fs::path(view.expressions),
+      view.visemes.empty() ? data_file("visemes.json") : fs::path(view.visemes));
 }
 
 FaceModel load_model(const ViewOptions& view) {
@@ -101,37 +127,109 @@ int viseme_index(const std::string& name) {
   throw InputError(fmt::format("viseme '{}': expected 0..14 or one of {}", name, names));
 }
 
-void play(const PlayOptions& o) {
-  if (o.output.empty() && o.frames.empty()) {
-    throw InputError("play: give -o OUT.mp4 or --frames DIR (or both)");
-  }
-  for (const auto& [out, option] : {std::pair{o.output, "-o"}, {o.frames, "--frames"}})
-    check_not_an_input(out, option, {o.input, o.audio});
+// The stream the user asked for, checked before any output exists.
+std::unique_ptr<FapSource> open_play_source(const PlayOptions& o) {
   if (o.input.empty() == o.expression.empty()) {
     throw InputError("play: give either a FAP file or --expression NAME");
   }
-  const render::CameraPose pose = render::parse_camera(o.view.camera);
-  const render::RenderOptions options = render_options(o.view);
   if (!o.expression.empty()) check_fps(o.fps, "--fps");
-
-  // Check everything the user gave before any output exists.
-  std::unique_ptr<FapSource> source;
   if (!o.input.empty()) {
     if (!fs::exists(o.input)) throw InputError(o.input + ": no such file");
     if (fap_format_for(o.input) == FapFormat::Fap) {
       const auto problems = validate_fap_file(o.input, 1);
       if (!problems.empty()) throw InputError(problems.front());
     }
-    source = open_fap_source(o.input);
-  } else {
-    render::ClipTiming timing;
-    timing.fps = o.fps;
-    source = std::make_unique<render::FapStreamSource>(
-        render::expression_clip(expression_select(o.expression), o.intensity, timing));
+    return open_fap_source(o.input);
   }
+  render::ClipTiming timing;
+  timing.fps = o.fps;
+  return std::make_unique<render::FapStreamSource>(
+      render::expression_clip(expression_select(o.expression), o.intensity, timing));
+}
+
+// Passes the window's commands on, and a Ctrl-C as Quit.
+struct InterruptibleView : render::PlayerView {
+  render::PlayerView& view;
+  const InterruptScope& interrupt;
+  InterruptibleView(render::PlayerView& v, const InterruptScope& i) : view(v), interrupt(i) {}
+  void show(long frame, double clock_s) override { view.show(frame, clock_s); }
+  std::vector<render::PlayerCommand> poll() override {
+    auto commands = view.poll();
+    if (interrupt.requested()) commands.push_back(render::PlayerCommand::Quit);
+    return commands;
+  }
+  void wait() override { view.wait(); }
+};
+
+// `play --window`: real time on the audio clock (or the system clock without --audio).
+void play_window(const PlayOptions& o) {
+  if (!o.output.empty() || !o.frames.empty())
+    throw InputError("play: --window shows the stream; leave out -o and --frames");
+  const render::CameraPose pose = render::parse_camera(o.view.camera);
+  render_options(o.view);  // checks the size
+  FapStream stream;
+  {
+    auto source = open_play_source(o);
+    stream.header = source->header();
+    FapFrame frame;
+    while (source->next(frame)) stream.frames.push_back(frame);
+  }
+  if (stream.frames.empty()) throw InputError("play: the stream has no frames");
+  speech::Audio audio;
+  if (!o.audio.empty()) audio = speech::read_wav(o.audio);
+  const FaceModel model = load_model(o.view);
+  const ExpressionLibrary library = load_library(o.view);
+  const Deformer deformer(model, &library);
+
+  render::WindowOptions wo;
+  wo.width = o.view.width;
+  wo.height = o.view.height;
+  wo.samples = o.view.samples;
+  wo.title = "rostro play: " + (o.input.empty() ? o.expression : o.input);
+  wo.no_display = "no display for the playback window; render a video with -o OUT.mp4 instead";
+  render::WindowRenderer window(wo);
+  window.set_mesh(render::to_render_mesh(model));
+
+  std::unique_ptr<render::PlaybackClock> clock;
+  if (!o.audio.empty()) {
+    try {
+      auto sdl = std::make_unique<render::SdlAudioClock>(audio.samples, audio.sample_rate);
+      std::fprintf(stderr, "rostro play: sound through %s\n", sdl->description().c_str());
+      clock = std::move(sdl);
+    } catch (const render::RenderUnavailable& e) {
+      std::fprintf(stderr, "rostro play: %s; playing without sound\n", e.what());
+    }
+  }
+  if (!clock) clock = std::make_unique<render::SteadyPlaybackClock>();
+
+  render::WindowPlayerView window_view(window, deformer, stream, pose,
+                                       render::portrait_bounds(model, window.mesh_bounds()),
+                                       wo.title);
+  InterruptScope interrupt;
+  InterruptibleView view(window_view, interrupt);
+  render::PlayerOptions po;
+  po.fps = stream.header.fps;
+  po.frame_count = static_cast<long>(stream.frames.size());
+  po.duration_s = audio.duration_s();
+  const render::PlayerReport report = render::play_on_clock(po, *clock, view);
+  std::printf("played %ld of %zu frames (%ld skipped) to %.2f s%s\n", report.frames_shown,
+              stream.frames.size(), report.frames_skipped, report.end_s,
+              report.quit ? ", stopped by the user" : "");
+}
+
+void play(const PlayOptions& o) {
+  if (o.window) return play_window(o);
+  if (o.output.empty() && o.frames.empty()) {
+    throw InputError("play: give -o OUT.mp4, --frames DIR or --window");
+  }
+  for (const auto& [out, option] : {std::pair{o.output, "-o"}, {o.frames, "--frames"}})
+    check_not_an_input(out, option, {o.input, o.audio});
+  const render::CameraPose pose = render::parse_camera(o.view.camera);
+  const render::RenderOptions options = render_options(o.view);
+  std::unique_ptr<FapSource> source = open_play_source(o);
   const FapHeader header = source->header();
   const FaceModel model = load_model(o.view);
-  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const ExpressionLibrary library = load_library(o.view);
 
   std::unique_ptr<render::FrameSink> video;
   if (!o.output.empty()) {
@@ -140,7 +238,7 @@ void play(const PlayOptions& o) {
     video_options.audio = o.audio;
     video = std::make_unique<render::VideoWriter>(o.output, video_options);
   } else if (!o.audio.empty()) {
-    throw InputError("--audio needs a video output (-o OUT.mp4)");
+    throw InputError("--audio needs a video output (-o OUT.mp4) or --window");
   }
   std::unique_ptr<render::FrameSink> frames;
   if (!o.frames.empty()) frames = std::make_unique<render::FrameFolderWriter>(o.frames);
@@ -244,11 +342,33 @@ void pose_command(const PoseOptions& o) {
     throw InputError("--sheet draws its own poses; leave out FAPs, --expression and --viseme");
   }
   const FaceModel model = load_model(o.view);
-  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const ExpressionLibrary library = load_library(o.view);
   render::FaceRenderer face(model, &library, options);
   const cv::Mat image = o.sheet ? make_sheet(face, pose) : face.render(frame, pose);
   render::write_image(o.output, image);
   std::printf("%s: %dx%d\n", o.output.c_str(), image.cols, image.rows);
+}
+
+void edit_command(const EditOptions& o) {
+  render::EditorOptions eo;
+  eo.expressions =
+      o.view.expressions.empty() ? data_file("expressions.json") : fs::path(o.view.expressions);
+  eo.visemes = o.view.visemes.empty() ? data_file("visemes.json") : fs::path(o.view.visemes);
+  eo.entry = o.entry;
+  eo.select = o.select;
+  eo.export_prefix = o.export_prefix;
+  eo.camera = render::parse_camera(o.view.camera);
+  render_options(o.view);  // checks the size
+  eo.width = o.view.width;
+  eo.height = o.view.height;
+  eo.log = [](const std::string& text) {
+    std::printf("%s\n", text.c_str());
+    std::fflush(stdout);  // seen as it happens, also when stdout is a file
+  };
+  render::editor_entry(o.entry);  // an unknown entry is one line before any window opens
+  const FaceModel model = load_model(o.view);
+  ExpressionLibrary library = ExpressionLibrary::load(eo.expressions, eo.visemes);
+  if (render::run_fap_editor(model, library, eo)) std::printf("edits not saved (Ctrl+S saves)\n");
 }
 
 }  // namespace
@@ -262,7 +382,11 @@ void add_play_commands(CLI::App& app) {
                        "video file (.mp4); written whole or not at all");
   play_cmd->add_option("--frames", play_options.frames, "also (or instead) write PNGs here");
   play_cmd->add_option("--audio", play_options.audio,
-                       "WAV to mux into the video; frame k plays at audio time k/fps");
+                       "WAV to mux into the video, or to play with --window; frame k plays at "
+                       "audio time k/fps");
+  play_cmd->add_flag("--window", play_options.window,
+                     "play in real time in a window, on the audio clock with --audio (Space "
+                     "pauses, Left/Right seek 5 s, Home restarts, Q quits)");
   play_cmd->add_option("--expression", play_options.expression,
                        "instead of FILE: a short neutral-to-expression clip (joy, sadness, "
                        "anger, fear, disgust, surprise)");
@@ -276,6 +400,7 @@ void add_play_commands(CLI::App& app) {
       "Example:\n"
       "  rostro play ../shared/fixtures/xface/joy.fap -o joy.mp4 --camera three-quarter\n"
       "  rostro play hola.fap --audio hola.wav -o hola.mp4\n"
+      "  rostro play hola.fap --audio hola.wav --window\n"
       "  rostro play --expression surprise --frames surprise/");
   play_cmd->callback([] { play(play_options); });
 
@@ -300,6 +425,32 @@ void add_play_commands(CLI::App& app) {
       "  rostro pose --expression joy --camera three-quarter -o joy.png\n"
       "  rostro pose --sheet --width 320 --height 320 -o docs/images/contact-sheet.png");
   pose_cmd->callback([] { pose_command(pose_options); });
+
+  static EditOptions edit_options;
+  edit_options.view.width = 1280;
+  edit_options.view.height = 800;
+  CLI::App* edit_cmd = app.add_subcommand(
+      "edit", "Edit the expression and viseme libraries on the head, in a window");
+  edit_cmd
+      ->add_option("--entry", edit_options.entry,
+                   "entry to edit first: neutral, joy, ..., or a viseme (aa, p_b_m, ...)")
+      ->capture_default_str();
+  edit_cmd->add_option("--select", edit_options.select,
+                       "FAP that PageUp/PageDown nudge first (a name, e.g. open_jaw)");
+  edit_cmd
+      ->add_option("--export", edit_options.export_prefix,
+                   "prefix of the pose export: PREFIX.fap and PREFIX.png")
+      ->capture_default_str();
+  add_view_options(edit_cmd, edit_options.view);
+  edit_cmd->footer(
+      "A slider per FAP, grouped as in MPEG-4; drag on the head to orbit. PageUp/PageDown\n"
+      "nudge the selected FAP, Ctrl+S saves both libraries (each file whole or not at all) to\n"
+      "--expressions/--visemes (default: data/), Escape quits. Needs a display.\n\n"
+      "Example:\n"
+      "  cp data/expressions.json data/visemes.json /tmp/\n"
+      "  rostro edit --expressions /tmp/expressions.json --visemes /tmp/visemes.json --entry joy\n"
+      "  rostro pose --expression joy --expressions /tmp/expressions.json -o joy.png");
+  edit_cmd->callback([] { edit_command(edit_options); });
 }
 
 }  // namespace rostro::app

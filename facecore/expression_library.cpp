@@ -2,12 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "facecore/atomic_file.hpp"
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
+#include "facecore/fap_table.hpp"
 #include "facecore/json_file.hpp"
 
 namespace rostro {
@@ -35,6 +38,29 @@ FapFrame fap_vector(const json& j, const std::string& context) {
     frame.set(*id, value.get<double>());
   }
   return frame;
+}
+
+// The low-level FAPs a frame sets, by name: integers stay integers in the file.
+json fap_object(const FapFrame& frame) {
+  json j = json::object();
+  for (int id = kExpressionFap + 1; id <= kFapCount; ++id) {
+    if (!frame.has(id)) continue;
+    const double v = frame.get(id);
+    const std::string name(fap_info(id).name);
+    if (v == std::round(v) && std::abs(v) < 1e9)
+      j[name] = static_cast<long long>(v);
+    else
+      j[name] = v;
+  }
+  return j;
+}
+
+// Only the low-level FAPs of `faps`.
+FapFrame low_level(const FapFrame& faps) {
+  FapFrame out;
+  for (int id = kExpressionFap + 1; id <= kFapCount; ++id)
+    if (faps.has(id)) out.set(id, faps.get(id));
+  return out;
 }
 
 // Adds `scale` x `source` to the FAPs of `target` that `locked` does not set.
@@ -76,6 +102,8 @@ ExpressionLibrary ExpressionLibrary::load(const std::filesystem::path& expressio
     const std::string ctx = fmt::format("{}: viseme {}", v_src, index);
     lib.visemes_[static_cast<std::size_t>(index)] =
         fap_vector(entry.contains("faps") ? entry["faps"] : json::object(), ctx);
+    if (entry.contains("phonemes") && entry["phonemes"].is_string())
+      lib.viseme_phonemes_[static_cast<std::size_t>(index)] = entry["phonemes"].get<std::string>();
     seen[static_cast<std::size_t>(index)] = true;
   }
   for (int i = 0; i < kVisemeCount; ++i)
@@ -121,6 +149,47 @@ const FapFrame& ExpressionLibrary::viseme(int index) const {
 const FapFrame* ExpressionLibrary::find_expression(std::string_view name) const {
   const auto index = expression_index(name);
   return index ? &expressions_[static_cast<std::size_t>(*index)] : nullptr;
+}
+
+void ExpressionLibrary::set_expression(int select, const FapFrame& faps) {
+  expression(select);  // checks the range
+  expressions_[static_cast<std::size_t>(select)] = low_level(faps);
+}
+
+void ExpressionLibrary::set_viseme(int index, const FapFrame& faps) {
+  viseme(index);  // checks the range
+  visemes_[static_cast<std::size_t>(index)] = low_level(faps);
+}
+
+void ExpressionLibrary::save(const std::filesystem::path& expressions_json,
+                             const std::filesystem::path& visemes_json) const {
+  json e = {{"format", "rostro-expressions/1"},
+            {"comment",
+             "The neutral face and the six MPEG-4 expressions (expression_select 1..6) as "
+             "low-level FAP vectors at full intensity (63), by FAP name, in each FAP's own unit "
+             "(FAPU)."},
+            {"expressions", json::object()}};
+  for (int i = 0; i < kExpressionCount; ++i)
+    e["expressions"][std::string(expression_name(i))] =
+        fap_object(expressions_[static_cast<std::size_t>(i)]);
+  json v = {{"format", "rostro-visemes/1"},
+            {"comment",
+             "The 15 MPEG-4 visemes (FAP 1 viseme_select 0..14) as low-level FAP vectors, by "
+             "FAP name, in each FAP's own unit (FAPU)."},
+            {"visemes", json::array()}};
+  for (int i = 0; i < kVisemeCount; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    v["visemes"].push_back({{"index", i},
+                            {"name", std::string(viseme_name(i))},
+                            {"phonemes", viseme_phonemes_[k]},
+                            {"faps", fap_object(visemes_[k])}});
+  }
+  AtomicFile e_file(expressions_json);
+  AtomicFile v_file(visemes_json);
+  e_file.write(e.dump(2) + "\n");
+  v_file.write(v.dump(2) + "\n");
+  e_file.commit();
+  v_file.commit();
 }
 
 FapFrame ExpressionLibrary::expression_frame(int select, double intensity) const {

@@ -39,6 +39,17 @@ class ExpressionLibrary {
   // Lookup by name ("joy"); nullptr when unknown.
   const FapFrame* find_expression(std::string_view name) const;
 
+  // Replaces an entry's full-intensity low-level FAP vector (FAPs 1 and 2 are dropped).
+  // Throws std::out_of_range.
+  void set_expression(int select, const FapFrame& faps);
+  void set_viseme(int index, const FapFrame& faps);
+
+  // Writes both files in the format load() reads (FAPs by name; the visemes keep the
+  // phoneme groups they were read with), each whole or not at all (AtomicFile). Throws
+  // InputError naming the file.
+  void save(const std::filesystem::path& expressions_json,
+            const std::filesystem::path& visemes_json) const;
+
   // The expression scaled by intensity 0..1 (1 = the library vector).
   FapFrame expression_frame(int select, double intensity) const;
 
@@ -51,6 +62,7 @@ class ExpressionLibrary {
  private:
   std::array<FapFrame, kExpressionCount> expressions_{};
   std::array<FapFrame, kVisemeCount> visemes_{};
+  std::array<std::string, kVisemeCount> viseme_phonemes_{};  // "p b m": kept for save()
 };
 
 }  // namespace rostro

@@ -4,11 +4,13 @@
 #include <GL/gl.h>
 #include <GLFW/glfw3.h>
 
+#include "render/glfw_session.hpp"
 #include "render/render_error.hpp"
 
 namespace rostro::live {
 
 struct LiveWindow::Glfw {
+  render::GlfwSession session{"no display for the live window; use --headless"};
   Pipeline* pipeline = nullptr;
   GLFWwindow* window = nullptr;
   bool quit = false;
@@ -17,15 +19,16 @@ struct LiveWindow::Glfw {
 LiveWindow::LiveWindow(Pipeline& pipeline, const std::string& title)
     : glfw_(std::make_unique<Glfw>()) {
   glfw_->pipeline = &pipeline;
-  if (!glfwInit())
-    throw render::RenderUnavailable(
-        "no display for the live window (GLFW could not start); "
-        "use --headless");
+  glfwDefaultWindowHints();
   glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+  // The head is rendered offscreen through EGL on this same thread. With GLVND, a thread
+  // that has a GLX context current cannot make an EGL context current (EGL_BAD_ACCESS), so
+  // the window's context is made through EGL too (as it always is under Wayland).
+  glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_EGL_CONTEXT_API);
   glfw_->window = glfwCreateWindow(1280, 560, title.c_str(), nullptr, nullptr);
   if (!glfw_->window) {
-    glfwTerminate();
-    throw render::RenderUnavailable("could not open the live window; use --headless");
+    throw render::RenderUnavailable("could not open the live window (" +
+                                    render::GlfwSession::last_error() + "); use --headless");
   }
   glfwSetWindowUserPointer(glfw_->window, glfw_.get());
   glfwSetKeyCallback(glfw_->window, [](GLFWwindow* w, int key, int, int action, int) {
@@ -55,7 +58,6 @@ LiveWindow::LiveWindow(Pipeline& pipeline, const std::string& title)
 
 LiveWindow::~LiveWindow() {
   glfwDestroyWindow(glfw_->window);
-  glfwTerminate();
 }
 
 void LiveWindow::show(const ViewFrame& frame) {

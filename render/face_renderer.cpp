@@ -7,8 +7,8 @@ namespace {
 
 constexpr float kSkin[3] = {0.87f, 0.68f, 0.58f};
 
-// The neutral head's bounds, cut off a little below the chin so a long neck does not shrink
-// the face: a portrait framing. Models without a chin point (2.1) keep their full bounds.
+}  // namespace
+
 Bounds portrait_bounds(const FaceModel& model, const Bounds& full) {
   const FeaturePointId chin{2, 1};
   if (!model.has_feature_point(chin)) return full;
@@ -18,8 +18,6 @@ Bounds portrait_bounds(const FaceModel& model, const Bounds& full) {
   b.min[1] = std::max(full.min[1], chin_y - 0.12f * (full.max[1] - chin_y));
   return b;
 }
-
-}  // namespace
 
 RenderMesh to_render_mesh(const FaceModel& model) {
   RenderMesh mesh;

@@ -24,6 +24,10 @@ namespace rostro::render {
 // The model's neutral mesh as renderer input; vertices without colours get a skin tone.
 RenderMesh to_render_mesh(const FaceModel& model);
 
+// The neutral head's bounds `full`, cut off a little below the chin so a long neck does not
+// shrink the face: a portrait framing. Models without a chin point (2.1) keep their full bounds.
+Bounds portrait_bounds(const FaceModel& model, const Bounds& full);
+
 // Flattens deformed positions into the renderer's x, y, z list.
 void flatten(const std::vector<Eigen::Vector3f>& positions, std::vector<float>& out);
 

@@ -156,12 +156,15 @@ void GlMeshDrawer::update_positions(std::span<const float> positions) {
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
-void GlMeshDrawer::draw(const CameraMatrices& camera, int width, int height,
-                        const Shading& shading) {
-  glViewport(0, 0, width, height);
+void GlMeshDrawer::draw(const CameraMatrices& camera, int width, int height, const Shading& shading,
+                        int x, int y) {
+  glViewport(x, y, width, height);
+  glEnable(GL_SCISSOR_TEST);  // the clear stays inside the rectangle
+  glScissor(x, y, width, height);
   glClearColor(shading.background[0], shading.background[1], shading.background[2], 1.0f);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glDisable(GL_SCISSOR_TEST);
   if (index_count_ == 0) return;
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);

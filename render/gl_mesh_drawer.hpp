@@ -33,8 +33,10 @@ class GlMeshDrawer {
   void set_mesh(const RenderMesh& mesh);
   // New positions for the same vertices (x, y, z each); normals are recomputed.
   void update_positions(std::span<const float> positions);
-  // Clears the bound framebuffer to the background and draws the mesh.
-  void draw(const CameraMatrices& camera, int width, int height, const Shading& shading);
+  // Clears the bound framebuffer to the background and draws the mesh, in the `width` x
+  // `height` rectangle whose lower-left corner is (x, y) (the rest is left alone).
+  void draw(const CameraMatrices& camera, int width, int height, const Shading& shading, int x = 0,
+            int y = 0);
 
   const Bounds& mesh_bounds() const { return bounds_; }
   std::size_t vertex_count() const { return vertex_count_; }

@@ -17,6 +17,11 @@ packages=(
   libpocketsphinx-dev libsphinxbase-dev pocketsphinx-en-us
   flite alsa-utils
   liblua5.4-dev
+  # sound for `rostro play --window` (SDL2 audio); `rostro edit`'s interface (Dear ImGui)
+  libsdl2-dev libimgui-dev
+  # the window tests (tests/apps/window_test.cpp): an X server without a screen, keys,
+  # screenshots
+  xvfb xdotool x11-apps imagemagick
   # the shoot workflow (workflow/, `rostro shoot`) and its report's plot
   snakemake python3-matplotlib
 )

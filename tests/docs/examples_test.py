@@ -127,7 +127,16 @@ def skip_reason(example):
     for text, reason in SKIPPED.items():
         if text in example:
             return reason
+    if re.search(r"rostro edit\b", example):
+        return "interactive: waits for keys (tests/apps/window_test.cpp drives it on Xvfb)"
+    if "--window" in example and "DISPLAY=" not in example:
+        return "needs a display (tests/apps/window_test.cpp runs it on Xvfb)"
     return None
+
+
+def x_servers():
+    p = subprocess.run(["pgrep", "-x", "Xvfb"], capture_output=True, text=True)
+    return set(p.stdout.split())
 
 
 def make_inputs(repo, work, rostro):
@@ -267,6 +276,7 @@ def main():
                 failed.append((where, example))
                 say(f"later {where}: {example} (exit {code}; tried again at the end)")
 
+    servers_before = x_servers()
     suites = [e for e in examples if SELF_CONTAINED.search(e[1])]
     second_lane = threading.Thread(target=run_lane, args=(suites,))
     second_lane.start()
@@ -283,6 +293,10 @@ def main():
             still_failing.append(example)
             tail = "\n".join(output.strip().splitlines()[-6:])
             print(f"FAIL  exit {code}  {where}: {example}\n{tail}\n", flush=True)
+
+    # An X server an example started for a window example is stopped with the check.
+    for pid in x_servers() - servers_before:
+        subprocess.run(["kill", pid])
 
     # The README's contact sheet is what `rostro pose --sheet` makes today.
     sheet = root / "docs" / "images" / "contact-sheet.png"

@@ -78,6 +78,30 @@ TEST(ExpressionLibrary, NeverOverwritesLowLevelFapsTheFrameSets) {
   EXPECT_EQ(e.get(fap("raise_r_cornerlip_o")), lib.expression(1).get(fap("raise_r_cornerlip_o")));
 }
 
+TEST(ExpressionLibrary, SavedLibraryReadsBackWithTheEditedEntries) {
+  ExpressionLibrary lib = library();
+  FapFrame joy = *lib.find_expression("joy");
+  joy.set(fap("open_jaw"), 420);
+  joy.set(fap("raise_l_m_eyebrow"), 12.5);
+  lib.set_expression(1, joy);
+  FapFrame aa = lib.viseme(10);
+  aa.clear(fap("open_jaw"));
+  lib.set_viseme(10, aa);
+  const fs::path dir = fs::temp_directory_path() / "rostro-library-save";
+  fs::create_directories(dir);
+  lib.save(dir / "expressions.json", dir / "visemes.json");
+  const ExpressionLibrary back =
+      ExpressionLibrary::load(dir / "expressions.json", dir / "visemes.json");
+  for (int i = 0; i < kExpressionCount; ++i) EXPECT_EQ(back.expression(i), lib.expression(i)) << i;
+  for (int i = 0; i < kVisemeCount; ++i) EXPECT_EQ(back.viseme(i), lib.viseme(i)) << i;
+  EXPECT_EQ(back.find_expression("joy")->get(fap("open_jaw")), 420);
+  EXPECT_FALSE(back.viseme(10).has(fap("open_jaw")));
+  EXPECT_THROW(lib.set_expression(7, joy), std::out_of_range);
+  // A folder that does not exist: an InputError, and nothing is written.
+  EXPECT_THROW(lib.save(dir / "no" / "e.json", dir / "no" / "v.json"), InputError);
+  fs::remove_all(dir);
+}
+
 TEST(ExpressionLibrary, BadFilesAreInputErrors) {
   const fs::path dir = fs::path(ROSTRO_BINARY_DIR) / "test_expression_library";
   fs::create_directories(dir);
