@@ -94,9 +94,8 @@ void run_calibrate_actor(const ActorArgs& a) {
                        : calib::intrinsics_for_frames(calib::read_intrinsics(a.camera), size,
                                                       a.camera, &camera_note);
   if (!camera_note.empty()) std::fprintf(stderr, "rostro calibrate: %s\n", camera_note.c_str());
-  if (const std::string moving =
-          calib::neutral_motion_warning(calib::measure_neutral_motion(frames));
-      !moving.empty())
+  const auto motion = calib::measure_neutral_motion(frames);
+  if (const std::string moving = calib::neutral_motion_warning(motion); !moving.empty())
     std::fprintf(stderr, "rostro calibrate: warning: %s\n", moving.c_str());
   const calib::ActorPrior prior = calib::load_actor_prior();
   const auto profile = calib::calibrate_actor(
@@ -107,6 +106,9 @@ void run_calibrate_actor(const ActorArgs& a) {
       "IRISD0 %.1f mm\n",
       a.output.c_str(), profile.markers.size(), frames.size(), profile.fapu.es0, profile.fapu.ens0,
       profile.fapu.mns0, profile.fapu.mw0, profile.fapu.irisd0);
+  if (motion)
+    std::printf("neutral frames: the face moves at most %.1f %% of its size ('%s', %.1f px)\n",
+                100 * motion->share(), motion->marker.c_str(), motion->displacement_px);
   for (const auto& [point, how] : profile.fapu_notes)
     std::printf("  %s: %s\n", point.c_str(), how.c_str());
 }
