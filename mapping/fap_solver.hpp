@@ -36,11 +36,9 @@ struct SolverOptions {
   double prior_weight = 0.05;
   // Weaker pulls for some FAPs (id -> weight, replacing prior_weight): the jaw and the outer
   // lips. A frontal face barely shows a tenth of a degree of head pitch (hundredths of a
-  // pixel), so the pull's lag on a fast mouth (the Xface lips swing 300 MNS a frame) went into
-  // the pose: the Xface drivers' head_pitch was 19-32 AU RMS off on exact tracks at 0.05 and
-  // 2.0-2.7 AU at 0.005 (with open_jaw's bound below). Not everywhere: the eyelids' and the
-  // nose's dots are noisier and their FAPs do not drag the pose; the firm pull smooths them
-  // (at 0.005 the upper lids under head turns went 4.7 -> 7.5 and 5.1 -> 10.7 % on video).
+  // pixel), so the pull's lag on a fast mouth (the Xface lips swing 300 MNS a frame) goes into
+  // the pose. Not everywhere: the eyelids' and the nose's dots are noisier and their FAPs do
+  // not drag the pose; the firm pull smooths them.
   std::map<int, double> prior_weight_of = {
       {3, 0.005},  {15, 0.005}, {18, 0.005}, {51, 0.005}, {52, 0.005}, {53, 0.005}, {54, 0.005},
       {55, 0.005}, {56, 0.005}, {57, 0.005}, {58, 0.005}, {59, 0.005}, {60, 0.005}};
@@ -48,12 +46,10 @@ struct SolverOptions {
   // velocity): a pose change that moves the markers by p pixels (a rotation: at their RMS
   // distance from their centroid) costs as much as a reprojection error of
   // pose_prior_weight x p. A frontal face tells a small pitch (or yaw) from a vertical (or
-  // sideways) move only by its depth, so the dots' frame-to-frame noise (about 0.05 px at
-  // 640x480) went into the pitch: +-100 AU on a still head (Xface disgust; the noise of the
-  // two nostril dots alone, every other marker exact, gave 88 AU RMS). Well-seen motions are
-  // held by ~30 markers against one prior and barely feel it. Measured on the closed loop:
-  // disgust's head_pitch 90 -> 72 AU RMS, fear's head_yaw 216 -> 167 AU, turns on exact
-  // tracks 0.0 -> 0.2 % of range at most (the lag). 0 turns it off.
+  // sideways) move only by its depth, so the dots' frame-to-frame noise (hundredths of a
+  // pixel) goes into the pitch of a still head. Well-seen motions are held by ~30 markers
+  // against one prior and barely feel it; a turn lags a little. Measured on and off:
+  // docs/rules.md. 0 turns it off.
   double pose_prior_weight = 0.5;
   // Beyond a miss of this many pixels the pose prior's pull stops growing (Huber): jitter is
   // a few hundredths of a pixel, while a quick head turn the prediction did not foresee (3
@@ -61,9 +57,8 @@ struct SolverOptions {
   // the FAPs instead (their own pulls are 10-100 times weaker).
   double pose_prior_scale_px = 0.2;
   // How fast the prediction's velocity follows the fitted poses (alpha-beta filter's beta): a
-  // share of each frame's miss. The raw last-two-frames velocity made it worse: its noise is
-  // twice the pose's (disgust's pitch 90 -> 101 AU at weight 1; fear's yaw 9 -> 54 % of range at
-  // 5).
+  // share of each frame's miss. The raw last-two-frames velocity (a gain of 1) is worse: its
+  // noise is twice the pose's.
   double pose_velocity_gain = 0.2;
   int max_iterations = 25;
   // Ceres' stopping rules: relative cost change, relative step size.
@@ -73,28 +68,27 @@ struct SolverOptions {
   bool head_faps = true;  // report the head rotation from neutral as FAPs 48-50
   // Unidirectional FAPs the fit still lets go below 0. The cheeks: the Xface streams draw
   // them down to -8 ENS (anger, fear, disgust) and the head renders that; clamped at 0, the
-  // cheek dots' miss was 4.3 % of lift_cheek's range and pulled the head pitch (disgust:
-  // 107 AU RMS on exact tracks, 30 AU without the clamp).
+  // cheek dots' miss pulls the head pitch.
   std::set<int> signed_faps = {41, 42};
   // Unidirectional FAPs the fit lets go a little below 0 (id -> lowest value): open_jaw, which
   // the Xface streams close up to 7 MNS past neutral (the head renders it). Held at 0 the jaw
-  // dots' miss went into the head pitch (up to 160 AU in a frame); let go entirely, noise under
-  // head turns opened a jaw-lip ambiguity (lip FAPs 1.5 -> 2.4 % of range on video). Reported
+  // dots' miss goes into the head pitch; let go entirely, noise under head turns opens a
+  // jaw-lip ambiguity. Reported
   // values still stop at 0, as the FAP table's direction says.
   std::map<int, double> lower_bounds = {{3, -10.0}};
   // FAPs held at the previous frame's value while every marker on a feature point is hidden.
   // Without the chin dot (2.1, hidden when the head is pitched down and turned) the chin boss
   // (2.10) and the lower lip move with open_jaw and with their own FAPs alike, so the fit
   // cannot tell a jaw opening from a chin or lip raise; holding depress_chin lets the chin
-  // boss read the jaw (joy with turns: open_jaw 9 % of range on exact tracks otherwise).
+  // boss read the jaw.
   struct HoldWhileHidden {
     std::string feature_point;
     std::vector<int> faps;
   };
   std::vector<HoldWhileHidden> hold_while_hidden = {{"2.1", {18}}};
   // With default intrinsics (no --camera), the focal length is a guess that bends every FAP
-  // once the head turns (f = 640 for a camera of 1083: 73 % mean FAP error at 25 degrees of
-  // yaw on exact tracks). Refine it from the frames themselves: a recursive least-squares
+  // once the head turns (a focal length 40 % short bends them by most of their range at 25
+  // degrees of yaw). Refine it from the frames themselves: a recursive least-squares
   // estimate of log f from each fitted frame, its information marginalised over that frame's
   // pose and FAPs (a frontal face says almost nothing about f, a turned one does).
   bool refine_default_focal = true;

@@ -4,11 +4,10 @@
 // contrast (0.9) takes in the feature. The ink is still darker than the feature: the pixels
 // within a small tolerance of the darkest near the dot are the dot's own.
 //
-// The closer the feature's darkest to the ink, the more the core leans toward it: on the rendered
-// head (eyebrow 10-30 % of the contrast lighter than the ink) the inner brow dots' cores lie
-// within 0.24-0.30 px RMS of the truth in x (closed loop, head turns at 640x480, Xface joy with
-// turns at 1280x720) where the merged blob's centre is 1-2.5 px out along the eyebrow; against a
-// band 6 % lighter than the ink, blurred, 0.7-0.8 px (tests/tracking/brow_merge_test.cpp).
+// The closer the feature's darkest to the ink, the more the core leans toward it, though far
+// less than the merged blob's centre, which lies out along the eyebrow
+// (tests/tracking/brow_merge_test.cpp bounds both; docs/rules.md measures the rules below on
+// and off).
 
 #include <algorithm>
 #include <cmath>
@@ -24,24 +23,21 @@ namespace rostro::tracking {
 // The brow dots' rules (MPEG-4 4.1-4.4), TrackerOptions::brows.
 struct BrowOptions {
   // The edge-fitted centre for the mid-brow dots (4.3, 4.4) too. They sit on the eyebrow, a
-  // band lighter than the ink that the brow's raise moves against the dot: the centroid was
-  // pulled toward the band's larger side (Xface fear at 640x480: 0.3 px down, spread 0.1 px;
-  // edge-fitted 0.1 px and 0.03; raise_m_eyebrow 5.2-5.8 -> 2.1 % of range).
+  // band lighter than the ink that the brow's raise moves against the dot: the centroid is
+  // pulled toward the band's larger side, the edge fit much less (docs/rules.md).
   bool edge_fit_mid_brows = true;
   // An inner brow dot (4.1, 4.2) sits at the eyebrow's end. Where the eyebrow (nearly as dark
   // as the ink) touches it, the two merge at every share of the dot's contrast and the blob's
-  // centre, and its edge, lie up to 2 px out along the eyebrow (closed loop, head turns at
-  // 640x480: squeeze_eyebrow 14 % of range). Such a blob (measured above half its contrast, and
-  // still not at 0.9, or long or ragged there) does not place the dot by its centre
-  // (tests/tracking/brow_merge_test.cpp). false: the blob's centre.
+  // centre, and its edge, lie out along the eyebrow, most under head turns. Such a blob
+  // (measured above half its contrast, and still not at 0.9, or long or ragged there) does not
+  // place the dot by its centre (tests/tracking/brow_merge_test.cpp). false: the blob's centre.
   bool hold_merged_inner_brows = true;
   // Such a dot is placed at the centre of its ink's core (ink_core_centre() below): the pixels
   // within this share of its contrast of the darkest within 0.7 of its width of where LK moved it
   // (of the merged blob's centre when found again after a loss, or at the start). The ink is darker
-  // than the eyebrow's end. Held where LK moved it, the dot drifted: LK weighs the eyebrow in its
-  // window, and each frame's pull added to the last (closed loop, turns at 640x480: 0.2 -> 0.9 px
-  // off over 55 frames, squeeze_r_eyebrow 8.5 % of range, about 3 % with the core); a dot found
-  // again on the merged blob was held 1.7 px off. 0: where LK moved it.
+  // than the eyebrow's end. Held where LK moved it, the dot drifts: LK weighs the eyebrow in its
+  // window, and each frame's pull adds to the last (docs/rules.md); a dot found again on the
+  // merged blob would be held off by the blob's own error. 0: where LK moved it.
   double inner_brow_core_tolerance = 0.08;
 
   // Throws InputError naming the first option out of range ("BrowOptions::...").
@@ -54,9 +50,9 @@ namespace ink_core_detail {
 
 // Above this median second difference along rows (grey levels; about 1.65 x the sensor noise's
 // sigma where most of the window is flat) the core is found on 3x3 means: in noise the darkest
-// single pixels are wherever the noise dips (the suite's low light, noise sigma 6: the inner brow
-// dots 0.5 -> 1.1 px off on single pixels). The rendered head without noise measures 1-6 there
-// (its shading and edges), with noise 6: 7-10.
+// single pixels are wherever the noise dips. The threshold sits between what the rendered head
+// measures without noise (its shading and edges) and with the suite's low-light noise (sigma 6),
+// where single pixels put the inner brow dots about twice as far off as the 3x3 means do.
 constexpr double kNoisySecondDifference = 6.5;
 
 inline bool noisy(const cv::Mat& gray, const cv::Rect& box) {

@@ -15,36 +15,35 @@
 namespace rostro::tracking {
 
 // The eye dots' rules (MPEG-4 group 3: the lids and the eye corners), TrackerOptions::eyes.
+// What each does, measured on and off on the closed loop: docs/rules.md
+// (scripts/rule-effects.sh).
 struct EyeOptions {
   // The inner eye-corner dots (3.8, 3.11) sit where the eye slit's corner runs out in a thin
   // dark line. At 1280x720 the line joins the dot's blob at half its contrast and the blob
   // fails the roundness check; DotOptions::raise_share_for_roundness measures it higher up
-  // instead (without it the inner corners were lost in 204 of 225 frames of the closed loop's
-  // still head at 1280x720). They are not edge-fitted: the edge fit's rays there run along the
+  // instead (without it the inner corners are lost in most frames at 1280x720). They are not
+  // edge-fitted: the edge fit's rays there run along the
   // line and the lashes (centre: inner_corners_symmetric_centre).
   bool inner_corners_raise_share = true;
   // The inner corners' centre where the blob best overlaps its own point reflection
   // (DotOptions::symmetric_centre) rather than the blob's centroid. The slit's corner, which
-  // grows as the eye widens, pulled the centroid toward the eye: the closed loop's Xface fear
-  // against the still head, 0.30 px further in x at 640x480 and 0.45 at 1280x720 (the head's
-  // yaw took it up: 8.5 % of range at 640x480); symmetric, 0.02-0.04 px.
+  // grows as the eye widens, pulls the centroid toward the eye, and the fit reads that as head
+  // yaw; the symmetric centre stays on the dot.
   bool inner_corners_symmetric_centre = true;
   // The longest the inner eye-corner dots' blob may be (long over short axis) when the dots
   // are at least TrackerOptions::reference_dot_px wide; smaller dots keep
   // DotOptions::max_elongation (3). The inner corner sits in the hollow beside the nose, seen
-  // steeply when the head turns: at 1280x720 and yaw -16 degrees it is 3.15 times as long as wide,
-  // and rejected it was found again on the lash line 10 px away (closed loop, turns:
-  // close_t_l_eyelid 18.9 % of range, 6.6 % at 4). At 640x480 a blob that long is the dot merged
-  // with the slit's corner line (joy with head turns: 57 -> 124 % at 4).
+  // steeply when the head turns: at 1280x720 and 16 degrees of yaw it is over 3 times as long
+  // as wide, and rejected it was found again on the lash line. At 640x480 a blob that long is
+  // the dot merged with the slit's corner line, hence the size condition.
   double inner_corner_max_elongation_large = 4;
   // Eye dots (lids, corners): the farthest a followed dot's measured centre may lie from where LK
   // moved it, pixels at TrackerOptions::reference_dot_px (scaled with the dots' size, as
-  // TrackerOptions::max_snap). The two agree to 0.25 px in 90-99 % of frames (closed loop, both
-  // sizes); a centre farther off is the dot measured together with a dark neighbour it touches for
-  // the frame: an inner eye-corner dot seen edge-on with the eye slit's corner wedge (turns at
-  // 640x480: 2.35 px into the eye, then followed there 2-2.5 px off for 18 frames), a lid dot with
-  // the iris. Such a dot is reported lost and looked for again. Large values:
-  // TrackerOptions::max_snap alone.
+  // TrackerOptions::max_snap). The two agree to a fraction of a pixel nearly always; a centre
+  // farther off is the dot measured together with a dark neighbour it touches for the frame: an
+  // inner eye-corner dot seen edge-on with the eye slit's corner wedge (then followed pixels into
+  // the eye for many frames), a lid dot with the iris. Such a dot is reported lost and looked for
+  // again. Large values: TrackerOptions::max_snap alone.
   double max_eye_snap = 1.5;
   // A lost lid dot is carried from where it was last seen, and found again only this far
   // (fraction of its spacing) to the side of there, along its eye's corner-to-corner line.
@@ -64,21 +63,21 @@ struct EyeOptions {
   // and lost for fewer frames than this is held to its size when last seen, not the larger of
   // that and its start size: an inner eye-corner dot seen edge-on under a head turn (a third of
   // its start width) merges with the eye slit's dark corner beside it into a blob about its
-  // start size, whose centre lies 2-4 px into the eye (closed loop, Xface joy with head turns,
-  // at 640x480 and 1280x720). Not after a round dot: one shrunk for a while (half covered) comes
-  // back at its start size (suite, occlusion: 6 -> 29 lost frames). 0: the start size always.
+  // start size, whose centre lies pixels into the eye. Not after a round dot: one shrunk for a
+  // while (half covered) comes back at its start size (the suite's occlusion clip loses it far
+  // longer otherwise). 0: the start size always.
   int eye_size_memory_frames = 25;
   double edge_on_elongation = 2;
   // Lid dots: largest long / short axis of the blob. A lid dot merged with the pupil (the
   // upper lid lowered over it in a smile, the head pitched) keeps about a dot's area, so the
-  // growth check above passes it, but is a tall blob: 1.6-2.8 against at most 1.72 for a lone
-  // lid dot under yaw +-25 and pitch +-15 (closed loop, 640x480 and 1280x720).
+  // growth check above passes it, but is a tall blob, taller than a lone lid dot gets under
+  // the closed loop's head turns (yaw +-25, pitch +-15).
   double max_lid_elongation = 1.8;
   // Lid dots: largest median contrast of the ring just outside the blob, as a share of its own
   // (Dot::surround; DotOptions::max_surround, 0.55, holds for every dot). A lower-lid dot merged
   // with the pupil above it (the lid raised in a smile, the head pitched) is measured high up,
-  // its centre 2-3 px into the eye, inside the dark iris: 0.45-0.55 there, against at most 0.45
-  // for a lone lid dot at 640x480 (7 frames in 2356 above it at 1280x720; closed loop clips).
+  // its centre pixels into the eye, inside the dark iris, whose ring is darker than a lone lid
+  // dot's ever is at 640x480 (a handful of frames in thousands pass it at 1280x720).
   double max_lid_surround = 0.45;
 
   // Throws InputError naming the first option out of range ("EyeOptions::...").

@@ -32,8 +32,8 @@ struct LowerLipOptions {
   // (fractions of the lower lip's spacing: the closed loop's drives reach 1.3-2.1 down and 0.4
   // sideways), and taken only where one shift puts at least two of the three, followed or found,
   // each on a dot within `shape` of it (the three keep their shape to 0.37). One at a time a
-  // dropped dot was found again on the open mouth's dark corner or on its neighbour's dot, up to 30
-  // px off (joy with head turns at 1280x720: raise_b_lip 33 % of range). The lower lip's dots are
+  // dropped dot was found again on the open mouth's dark corner or on its neighbour's dot, tens of
+  // pixels off (docs/rules.md measures it on and off). The lower lip's dots are
   // also no neighbours in the other dots' check that a dot moves as its neighbours do: the lower
   // lip moves unlike them. false: one by one, as any dot.
   bool together = true;
