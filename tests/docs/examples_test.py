@@ -19,6 +19,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
@@ -215,12 +216,18 @@ def prepare(repo, work, rostro, shared):
 def run(example, root, bin_dir, timeout):
     env = dict(os.environ, PATH=f"{bin_dir}:{os.environ['PATH']}")
     start = time.monotonic()
-    try:
-        p = subprocess.run(["bash", "-c", "set -o pipefail; " + example], cwd=root, env=env,
-                           capture_output=True, text=True, timeout=timeout)
-        code, output = p.returncode, p.stdout + p.stderr
-    except subprocess.TimeoutExpired:
-        code, output = -1, f"still running after {timeout} s"
+    # Output goes to a file, not a pipe: a server an example starts in the background (Xvfb)
+    # keeps its descriptors open after the example ends, and a pipe would never close.
+    with tempfile.TemporaryFile(mode="w+") as out:
+        try:
+            p = subprocess.run(["bash", "-c", "set -o pipefail; " + example], cwd=root, env=env,
+                               stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT,
+                               timeout=timeout)
+            code = p.returncode
+        except subprocess.TimeoutExpired:
+            code = -1
+        out.seek(0)
+        output = out.read() if code != -1 else f"still running after {timeout} s"
     return code, output, time.monotonic() - start
 
 
