@@ -60,7 +60,7 @@ struct ActorArgs {
 };
 
 void run_calibrate_actor(const ActorArgs& a) {
-  check_not_an_input(a.output, "-o", {a.source, a.camera});
+  check_not_an_input({{a.output, "-o"}}, {a.source, a.camera});
   check_seconds(a.seconds, "--seconds");
   const std::unique_ptr<tracking::FaceTracker> tracker = a.face.make();
   const tracking::MarkerLayout& layout = tracker->layout();

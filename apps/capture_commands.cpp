@@ -134,9 +134,8 @@ std::filesystem::path partial_name(const std::string& output) {
 
 void run_capture(const CaptureArgs& a) {
   check_seconds(a.calibration_seconds, "--calibration-seconds");
-  for (const auto& [out, option] :
-       {std::pair{a.output, "-o"}, {a.tracks, "--tracks"}, {a.preview, "--preview"}})
-    check_not_an_input(out, option, {a.source, a.actor, a.camera});
+  check_not_an_input({{a.output, "-o"}, {a.tracks, "--tracks"}, {a.preview, "--preview"}},
+                     {a.source, a.actor, a.camera});
   TrackedInput input(a);
   const tracking::MarkerLayout& layout = input.layout();
   mapping::MapperOptions options;

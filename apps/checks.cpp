@@ -22,18 +22,20 @@ void check_seconds(double seconds, const std::string& option, double max) {
         fmt::format("{} {}: expected a duration in (0, {}] seconds", option, seconds, max));
 }
 
-void check_not_an_input(const std::string& output, const std::string& option,
+void check_not_an_input(std::initializer_list<NamedOutput> outputs,
                         std::initializer_list<std::string> inputs) {
-  if (output.empty()) return;
-  std::error_code ec;
-  const auto out = std::filesystem::weakly_canonical(output, ec);
-  if (ec) return;  // an unreadable path: the write itself will say what is wrong
-  for (const std::string& input : inputs) {
-    if (input.empty()) continue;
-    const auto in = std::filesystem::weakly_canonical(input, ec);
-    if (!ec && in == out)
-      throw InputError(
-          fmt::format("{} {}: that is an input of this command; write elsewhere", option, output));
+  for (const NamedOutput& output : outputs) {
+    if (output.path.empty()) continue;
+    std::error_code ec;
+    const auto out = std::filesystem::weakly_canonical(output.path, ec);
+    if (ec) continue;  // an unreadable path: the write itself will say what is wrong
+    for (const std::string& input : inputs) {
+      if (input.empty()) continue;
+      const auto in = std::filesystem::weakly_canonical(input, ec);
+      if (!ec && in == out)
+        throw InputError(fmt::format("{} {}: that is an input of this command; write elsewhere",
+                                     output.option, output.path));
+    }
   }
 }
 

@@ -14,9 +14,15 @@ void check_fps(double fps, const std::string& option);
 // Throws InputError unless `seconds` is finite, > 0 and <= `max` (default: a day).
 void check_seconds(double seconds, const std::string& option, double max = 86400.0);
 
-// Throws InputError when the output `option` names the same file as one of `inputs` (empty
+// An output file and the option that names it, for check_not_an_input().
+struct NamedOutput {
+  const std::string& path;  // empty: not asked for, skipped
+  const char* option;
+};
+
+// Throws InputError when one of `outputs` names the same file as one of `inputs` (empty
 // names are skipped): a command never writes over what it reads.
-void check_not_an_input(const std::string& output, const std::string& option,
+void check_not_an_input(std::initializer_list<NamedOutput> outputs,
                         std::initializer_list<std::string> inputs);
 
 // After `sink` finished writing `path`: a warning line on stderr when Xface (2004) cannot

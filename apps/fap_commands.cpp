@@ -59,7 +59,7 @@ void convert_to_live_link_face(FapSource& source, const std::string& out) {
 void convert(const std::string& in, const std::string& out) {
   if (!is_arkit_csv(out))
     fap_format_for(out);  // reject an unknown output extension before reading anything
-  check_not_an_input(out, "OUTPUT", {in});
+  check_not_an_input({{out, "OUTPUT"}}, {in});
   auto source = open_fap_source(in);
   if (is_arkit_csv(out)) return convert_to_live_link_face(*source, out);
   auto sink = open_fap_sink(out, source->header());

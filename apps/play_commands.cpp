@@ -222,8 +222,7 @@ void play(const PlayOptions& o) {
   if (o.output.empty() && o.frames.empty()) {
     throw InputError("play: give -o OUT.mp4, --frames DIR or --window");
   }
-  for (const auto& [out, option] : {std::pair{o.output, "-o"}, {o.frames, "--frames"}})
-    check_not_an_input(out, option, {o.input, o.audio});
+  check_not_an_input({{o.output, "-o"}, {o.frames, "--frames"}}, {o.input, o.audio});
   const render::CameraPose pose = render::parse_camera(o.view.camera);
   const render::RenderOptions options = render_options(o.view);
   std::unique_ptr<FapSource> source = open_play_source(o);

@@ -32,9 +32,7 @@ struct ScriptArgs {
 };
 
 void run_script(const ScriptArgs& a, const CLI::App& cmd) {
-  for (const auto& [out, option] :
-       {std::pair{a.output, "-o"}, {a.wav, "--wav"}, {a.cues, "--cues"}})
-    check_not_an_input(out, option, {a.story});
+  check_not_an_input({{a.output, "-o"}, {a.wav, "--wav"}, {a.cues, "--cues"}}, {a.story});
   // A signal abandons the run: the .fap and the WAV are written whole or not at all.
   InterruptScope interrupt;
   const bool fps_given = cmd.count("--fps") > 0, seed_given = cmd.count("--seed") > 0;

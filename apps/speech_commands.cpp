@@ -89,11 +89,11 @@ std::string recognition_note(const speech::PreparedSpeech& p) {
 
 void speak(const SpeakArgs& a) {
   check_fps(a.fps, "--fps");
-  for (const auto& [out, option] : {std::pair{a.output, "-o"},
-                                    {a.wav, "--wav"},
-                                    {a.cues, "--cues"},
-                                    {a.viseme_script, "--viseme-script"}})
-    check_not_an_input(out, option, {a.audio, a.text_file, a.pho});
+  check_not_an_input({{a.output, "-o"},
+                      {a.wav, "--wav"},
+                      {a.cues, "--cues"},
+                      {a.viseme_script, "--viseme-script"}},
+                     {a.audio, a.text_file, a.pho});
   // A signal abandons the run: the .fap and the WAV are written whole or not at all.
   InterruptScope interrupt;
   const int sources = !a.text.empty() + !a.text_file.empty() + !a.pho.empty();

@@ -60,8 +60,7 @@ std::unique_ptr<tracking::FaceTracker> make_tracker(const TrackArgs& args) {
 
 void run_track(const TrackArgs& args) {
   if (args.fps != 0) check_fps(args.fps, "--fps");
-  for (const auto& [out, option] : {std::pair{args.output, "-o"}, {args.overlay, "--overlay"}})
-    check_not_an_input(out, option, {args.source, args.start});
+  check_not_an_input({{args.output, "-o"}, {args.overlay, "--overlay"}}, {args.source, args.start});
   const std::unique_ptr<tracking::FaceTracker> tracker = make_tracker(args);
   const tracking::MarkerLayout& layout = tracker->layout();
 
