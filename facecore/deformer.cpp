@@ -1,8 +1,12 @@
 #include "facecore/deformer.hpp"
 
+#include <omp.h>
+
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 #include "facecore/error.hpp"
 #include "facecore/expression_library.hpp"
@@ -19,6 +23,7 @@ constexpr int kThrustLeftEye = 27, kThrustRightEye = 28;
 constexpr int kDilateLeft = 29, kDilateRight = 30;
 constexpr int kTongueRoll = 47;
 constexpr int kHeadPitch = 48, kHeadYaw = 49, kHeadRoll = 50;
+constexpr int kRunMax = 2048;
 
 // The FAPs (3..68) that translate a given feature point along their axis.
 std::vector<int> translating_faps(FeaturePointId point) {
@@ -92,9 +97,9 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
   }
 
   const auto n_channels = static_cast<Eigen::Index>(channel_points_.size());
-  weights_.resize(n_vertices, n_channels);
-  weights_.setFromTriplets(weight_entries.begin(), weight_entries.end());
-  weights_.makeCompressed();
+  Eigen::SparseMatrix<float, Eigen::RowMajor> vertex_weights(n_vertices, n_channels);
+  vertex_weights.setFromTriplets(weight_entries.begin(), weight_entries.end());
+  vertex_weights.makeCompressed();
 
   channel_faps_ = Eigen::MatrixXd::Zero(3 * n_channels, kFapCount);
   for (Eigen::Index k = 0; k < n_channels; ++k)
@@ -149,13 +154,64 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
       add(v, kTongueRoll, Vector3d(0, dx * kAngleUnitRad, 0));
     }
   }
-  direct_.resize(3 * n_vertices, kFapCount);
-  direct_.setFromTriplets(direct.begin(), direct.end());
-  direct_.makeCompressed();
+  Eigen::SparseMatrix<float> direct_terms(3 * n_vertices, kFapCount);
+  direct_terms.setFromTriplets(direct.begin(), direct.end());
+  direct_terms.makeCompressed();
 
   neutral_.resize(3, n_vertices);
   for (Eigen::Index v = 0; v < n_vertices; ++v)
     neutral_.col(v) = model.positions[static_cast<std::size_t>(v)];
+
+  // The vertices that move, with their weights and direct terms as rows of their own.
+  std::vector<int> row_of(static_cast<std::size_t>(n_vertices), -1);
+  for (Eigen::Index v = 0; v < n_vertices; ++v)
+    if (vertex_weights.outerIndexPtr()[v + 1] > vertex_weights.outerIndexPtr()[v])
+      row_of[static_cast<std::size_t>(v)] = 0;
+  for (Eigen::Index f = 0; f < direct_terms.outerSize(); ++f)
+    for (Eigen::SparseMatrix<float>::InnerIterator it(direct_terms, f); it; ++it)
+      row_of[static_cast<std::size_t>(it.row() / 3)] = 0;
+  // Consecutive vertices of one kind form a run; runs are cut at kRunMax vertices so that
+  // threads share them evenly.
+  auto extend = [](std::vector<VertexRun>& runs, int v, int row) {
+    if (runs.empty() || runs.back().end != v || runs.back().end - runs.back().begin >= kRunMax)
+      runs.push_back({v, v, row});
+    ++runs.back().end;
+  };
+  int n_rows = 0;
+  for (std::size_t v = 0; v < row_of.size(); ++v) {
+    if (row_of[v] == 0) {
+      row_of[v] = n_rows;
+      extend(moving_, static_cast<int>(v), n_rows++);
+    } else {
+      extend(still_, static_cast<int>(v), -1);
+    }
+  }
+  const auto n_moving = static_cast<Eigen::Index>(n_rows);
+  std::vector<Eigen::Triplet<float>> moving_weights, moving_direct;
+  for (Eigen::Index v = 0; v < n_vertices; ++v)
+    for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(vertex_weights, v); it; ++it)
+      moving_weights.emplace_back(row_of[static_cast<std::size_t>(v)], it.col(), it.value());
+  for (Eigen::Index f = 0; f < direct_terms.outerSize(); ++f)
+    for (Eigen::SparseMatrix<float>::InnerIterator it(direct_terms, f); it; ++it)
+      moving_direct.emplace_back(row_of[static_cast<std::size_t>(it.row() / 3)],
+                                 static_cast<int>(3 * f + it.row() % 3), it.value());
+  weights_.resize(n_moving, n_channels);
+  weights_.setFromTriplets(moving_weights.begin(), moving_weights.end());
+  weights_.makeCompressed();
+  direct_.resize(n_moving, 3 * kFapCount);
+  direct_.setFromTriplets(moving_direct.begin(), moving_direct.end());
+  direct_.makeCompressed();
+}
+
+void Deformer::set_threads(int threads) {
+  if (threads < 0) throw std::invalid_argument("Deformer::set_threads needs 0 or more threads");
+  threads_ = threads;
+}
+
+int Deformer::threads() const {
+  if (threads_ > 0) return threads_;
+  if (static_cast<std::size_t>(neutral_.cols()) < kParallelVertices) return 1;
+  return std::max(1, omp_get_num_procs());
 }
 
 void Deformer::deform(const FapFrame& frame, std::vector<Eigen::Vector3f>& positions) const {
@@ -175,50 +231,79 @@ void Deformer::deform(const Eigen::VectorXd& faps, std::vector<Eigen::Vector3f>&
 
 void Deformer::deform_low_level(const Eigen::VectorXd& faps,
                                 std::vector<Eigen::Vector3f>& out) const {
-  const auto n = static_cast<std::size_t>(neutral_.cols());
-  out.resize(n);
-  // The head rotation (about 7.1) is applied in the same pass as the sparse product.
+  const auto n = static_cast<long>(neutral_.cols());
+  out.resize(static_cast<std::size_t>(n));
+  // The head turns about 7.1: p -> r p + (pivot - r pivot), here as plain scalars so that the
+  // loops keep them in registers.
   const double head_pitch = faps[kHeadPitch - 1] * kAngleUnitRad,
                head_yaw = faps[kHeadYaw - 1] * kAngleUnitRad,
                head_roll = faps[kHeadRoll - 1] * kAngleUnitRad;
-  const bool turn = head_pitch != 0.0 || head_yaw != 0.0 || head_roll != 0.0;
   const Eigen::Matrix3f r = rotation(head_pitch, head_yaw, head_roll).cast<float>();
   const Eigen::Vector3f pivot = model_.head_pivot.cast<float>();
+  const Eigen::Vector3f shift = pivot - r * pivot;
+  const float r00 = r(0, 0), r01 = r(0, 1), r02 = r(0, 2), r10 = r(1, 0), r11 = r(1, 1),
+              r12 = r(1, 2), r20 = r(2, 0), r21 = r(2, 1), r22 = r(2, 2);
+  const float t0 = shift[0], t1 = shift[1], t2 = shift[2];
 
-  // Displacement of every channel's feature point, then one sparse product over vertices.
-  const Eigen::VectorXf d = (channel_faps_ * faps).cast<float>();
-  const float* dp = d.data();
-  const int* outer = weights_.outerIndexPtr();
-  const int* inner = weights_.innerIndexPtr();
-  const float* value = weights_.valuePtr();
+  // Displacement of every channel's feature point, padded to four floats so that one entry
+  // of the weights is one vector multiply-add; the direct terms' FAP values as floats.
+  const Eigen::VectorXd displacement = channel_faps_ * faps;
+  Eigen::Matrix4Xf channels = Eigen::Matrix4Xf::Zero(4, displacement.size() / 3);
+  for (Eigen::Index k = 0; k < channels.cols(); ++k)
+    channels.col(k).head<3>() = displacement.segment<3>(3 * k).cast<float>();
+  const Eigen::VectorXf fap_values = faps.cast<float>();
+  const float* fv = fap_values.data();
   const float* neutral = neutral_.data();
-  for (std::size_t v = 0; v < n; ++v) {
-    float x = neutral[3 * v], y = neutral[3 * v + 1], z = neutral[3 * v + 2];
-    for (int i = outer[v]; i < outer[v + 1]; ++i) {
-      const float w = value[i];
-      const float* c = dp + 3 * inner[i];
-      x += w * c[0];
-      y += w * c[1];
-      z += w * c[2];
-    }
-    const Eigen::Vector3f p(x, y, z);
-    out[v] = turn ? Eigen::Vector3f(pivot + r * (p - pivot)) : p;
-  }
-  for (int f = 0; f < kFapCount; ++f) {
-    if (faps[f] == 0.0) continue;
-    const auto scale = static_cast<float>(faps[f]);
-    for (Eigen::SparseMatrix<float>::InnerIterator it(direct_, f); it; ++it) {
-      const auto v = static_cast<std::size_t>(it.row() / 3);
-      const auto axis = static_cast<Eigen::Index>(it.row() % 3);
-      if (turn)
-        out[v] += r.col(axis) * (scale * it.value());
-      else
-        out[v][axis] += scale * it.value();
-    }
+  float* o = out.data()->data();
+  const int* w_outer = weights_.outerIndexPtr();
+  const int* w_inner = weights_.innerIndexPtr();
+  const float* w_value = weights_.valuePtr();
+  const int* d_outer = direct_.outerIndexPtr();
+  const int* d_inner = direct_.innerIndexPtr();
+  const float* d_value = direct_.valuePtr();
+  const VertexRun* moving = moving_.data();
+  const auto n_moving = static_cast<long>(moving_.size());
+  const VertexRun* still = still_.data();
+  const auto n_still = static_cast<long>(still_.size());
+  const int n_threads = threads();
+  static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "out is read as packed floats");
+
+#pragma omp parallel num_threads(n_threads) if (n_threads > 1)
+  {
+    // The vertices nothing moves: their neutral place, turned with the head.
+#pragma omp for schedule(dynamic, 4) nowait
+    for (long i = 0; i < n_still; ++i)
+      for (long v = 3L * still[i].begin; v < 3L * still[i].end; v += 3) {
+        const float x = neutral[v], y = neutral[v + 1], z = neutral[v + 2];
+        o[v] = r00 * x + r01 * y + r02 * z + t0;
+        o[v + 1] = r10 * x + r11 * y + r12 * z + t1;
+        o[v + 2] = r20 * x + r21 * y + r22 * z + t2;
+      }
+      // The others: neutral place plus displacement, turned.
+#pragma omp for schedule(dynamic, 4) nowait
+    for (long run = 0; run < n_moving; ++run)
+      for (int i = moving[run].row, u = moving[run].begin; u < moving[run].end; ++i, ++u) {
+        const long v = 3L * u;
+        Eigen::Vector4f sum = Eigen::Vector4f::Zero();
+        for (int k = w_outer[i]; k < w_outer[i + 1]; ++k)
+          sum += w_value[k] * channels.col(w_inner[k]);
+        float x = neutral[v] + sum[0], y = neutral[v + 1] + sum[1], z = neutral[v + 2] + sum[2];
+        for (int k = d_outer[i]; k < d_outer[i + 1]; ++k) {
+          const float term = d_value[k] * fv[d_inner[k] / 3];
+          const int axis = d_inner[k] % 3;
+          x += axis == 0 ? term : 0.0f;
+          y += axis == 1 ? term : 0.0f;
+          z += axis == 2 ? term : 0.0f;
+        }
+        o[v] = r00 * x + r01 * y + r02 * z + t0;
+        o[v + 1] = r10 * x + r11 * y + r12 * z + t1;
+        o[v + 2] = r20 * x + r21 * y + r22 * z + t2;
+      }
   }
 
-  // Eyeballs rotate about their (possibly thrust) centres before the head turns: undo the
-  // head rotation for their few vertices, rotate, and turn them again.
+  // Eyeballs rotate about their (possibly thrust) centres before the head turns. For a vertex
+  // already turned with the head (o = pivot + r (p - pivot)) that is one affine map,
+  // o -> m (o - pivot) + q with m = r re r^T and q = pivot + (r - r re)(centre - pivot).
   struct Eye {
     const RigidPart* part;
     int yaw, pitch, thrust;
@@ -233,11 +318,11 @@ void Deformer::deform_low_level(const Eigen::VectorXd& faps,
     const Eigen::Vector3f centre =
         (eye.part->pivot + Vector3d(0, 0, faps[eye.thrust - 1] * es)).cast<float>();
     const Eigen::Matrix3f re = rotation(pitch, yaw, 0.0).cast<float>();
+    const Eigen::Matrix3f m = r * re * r.transpose();
+    const Eigen::Vector3f q = pivot + (r - r * re) * (centre - pivot);
     for (int v : eye.part->vertices) {
       Eigen::Vector3f& p = out[static_cast<std::size_t>(v)];
-      if (turn) p = pivot + r.transpose() * (p - pivot);
-      p = centre + re * (p - centre);
-      if (turn) p = pivot + r * (p - pivot);
+      p = m * (p - pivot) + q;
     }
   }
 }
@@ -262,18 +347,18 @@ void Deformer::normals(const std::vector<Eigen::Vector3f>& positions,
 
 Eigen::SparseMatrix<double> Deformer::linear_map() const {
   std::vector<Eigen::Triplet<double>> entries;
-  for (Eigen::Index v = 0; v < weights_.outerSize(); ++v)
-    for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(weights_, v); it; ++it)
-      for (int a = 0; a < 3; ++a)
-        for (int f = 0; f < kFapCount; ++f) {
-          const double m = channel_faps_(3 * it.col() + a, f);
-          if (m != 0.0)
-            entries.emplace_back(static_cast<int>(3 * v + a), f,
-                                 static_cast<double>(it.value()) * m);
-        }
-  for (int f = 0; f < kFapCount; ++f)
-    for (Eigen::SparseMatrix<float>::InnerIterator it(direct_, f); it; ++it)
-      entries.emplace_back(static_cast<int>(it.row()), f, static_cast<double>(it.value()));
+  for (const VertexRun& run : moving_)
+    for (int i = run.row, v = run.begin; v < run.end; ++i, ++v) {
+      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(weights_, i); it; ++it)
+        for (int a = 0; a < 3; ++a)
+          for (int f = 0; f < kFapCount; ++f) {
+            const double m = channel_faps_(3 * it.col() + a, f);
+            if (m != 0.0) entries.emplace_back(3 * v + a, f, static_cast<double>(it.value()) * m);
+          }
+      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_, i); it; ++it)
+        entries.emplace_back(3 * v + static_cast<int>(it.col() % 3), static_cast<int>(it.col() / 3),
+                             static_cast<double>(it.value()));
+    }
   Eigen::SparseMatrix<double> m(3 * neutral_.cols(), kFapCount);
   m.setFromTriplets(entries.begin(), entries.end());
   return m;

@@ -3,6 +3,11 @@
 // jaw-following parts, pupil dilation, eyeball thrust, tongue roll) is compiled once per
 // model into sparse matrices; a frame is then one sparse product plus the rotations of the
 // eyeballs (FAPs 23-26, about their pivots) and of the head (FAPs 48-50, about 7.1).
+//
+// A frame places the vertices nothing moves rigidly (their neutral position turned with the
+// head) and sums displacements only for those some region, part or direct term moves (about
+// half of them on the generated heads). Both loops split over threads (OpenMP) on large
+// meshes.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -21,6 +26,12 @@ class Deformer {
   // region whose feature points coincide). The model and library must outlive the Deformer.
   // With a library, deform() first expands FAPs 1 (viseme) and 2 (expression).
   explicit Deformer(const FaceModel& model, const ExpressionLibrary* library = nullptr);
+
+  // Threads a frame is split over: 0 (the default) uses every core on meshes of
+  // kParallelVertices or more and one thread below, where the split costs more than it saves.
+  void set_threads(int threads);
+  int threads() const;
+  static constexpr std::size_t kParallelVertices = 50000;
 
   // Deformed vertex positions for this frame; `positions` is resized to the mesh.
   // Unset FAPs are 0 (neutral); all FAPs 0 gives the neutral mesh exactly.
@@ -43,13 +54,21 @@ class Deformer {
 
   const FaceModel& model_;
   const ExpressionLibrary* library_;
+  int threads_ = 0;
   // Feature-point channels: displacement (3-vector) of point k = channel_faps_[k] x faps.
   std::vector<FeaturePointId> channel_points_;
   Eigen::MatrixXd channel_faps_;  // (3K x 68): x, y, z rows per channel
-  // Vertex displacement (V x 3) = weights_ (V x K) x channel displacements (K x 3).
+  // Vertices [begin, end), whose rows below start at `row` (moving runs only).
+  struct VertexRun {
+    int begin, end, row;
+  };
+  // The vertices that move (any weight or direct term), in order, and the others.
+  // Displacement of a moving vertex (M x 3) = weights_ (M x K) x channel displacements (K x 3)
+  // + direct_ (M x 204) x FAP values: per-vertex vector terms that are not a weight times a
+  // point's motion (pupil dilation, eyeball thrust, tongue roll), column 3f + axis for FAP f+1.
+  std::vector<VertexRun> moving_, still_;
   Eigen::SparseMatrix<float, Eigen::RowMajor> weights_;
-  // Per-vertex vector terms that are not a weight times a point's motion (3V x 68).
-  Eigen::SparseMatrix<float> direct_;
+  Eigen::SparseMatrix<float, Eigen::RowMajor> direct_;
   Eigen::MatrixXf neutral_;  // (3 x V)
 };
 

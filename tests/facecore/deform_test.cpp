@@ -135,6 +135,46 @@ TEST(Deformer, HeadRotatesAboutSevenOne) {
             static_cast<float>(tip.y()));
 }
 
+TEST(Deformer, EyesTurnInTheHeadThatTurns) {
+  // Gaze first (about the eyeball's pivot), then the head about 7.1, all in one frame.
+  const double gaze = 0.2, turn = 0.15;
+  FapFrame frame;
+  frame.set(23, gaze / kAngleUnitRad);
+  frame.set(49, turn / kAngleUnitRad);
+  frame.set(48, -turn / kAngleUnitRad);
+  std::vector<Eigen::Vector3f> moved;
+  deformer().deform(frame, moved);
+  const Eigen::Matrix3d head_turn = (Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitY()) *
+                                     Eigen::AngleAxisd(-turn, Eigen::Vector3d::UnitX()))
+                                        .toRotationMatrix();
+  const Eigen::Vector3d head_pivot = head().head_pivot;
+  const Eigen::Vector3d eye_pivot = head().parts.left_eyeball.pivot;
+  for (int u : head().parts.left_eyeball.vertices) {
+    const Eigen::Vector3d p = head().positions[static_cast<std::size_t>(u)].cast<double>();
+    const Eigen::Vector3d gazed =
+        eye_pivot + Eigen::AngleAxisd(gaze, Eigen::Vector3d::UnitY()) * (p - eye_pivot);
+    const Eigen::Vector3d expected = head_pivot + head_turn * (gazed - head_pivot);
+    ASSERT_LT((moved[static_cast<std::size_t>(u)].cast<double>() - expected).norm(), 1e-3);
+  }
+}
+
+TEST(Deformer, ThreadsGiveTheSameMesh) {
+  // A head of about the size from which frames are split over the cores by default.
+  const FaceModel big = generate_head(HeadOptions{static_cast<int>(Deformer::kParallelVertices)});
+  ASSERT_GE(big.positions.size(), Deformer::kParallelVertices / 2);
+  Deformer deformer(big);
+  FapFrame frame;
+  for (int id = 3; id <= kFapCount; ++id) frame.set(id, 100.0 + (id * 37) % 90);
+  std::vector<Eigen::Vector3f> one, two;
+  deformer.set_threads(1);
+  deformer.deform(frame, one);
+  deformer.set_threads(2);
+  deformer.deform(frame, two);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t v = 0; v < one.size(); ++v) ASSERT_EQ(one[v], two[v]) << "vertex " << v;
+  EXPECT_THROW(deformer.set_threads(-1), std::invalid_argument);
+}
+
 TEST(Deformer, TongueRollRaisesTheTongueBorders) {
   const double value = 10000;
   const auto moved = deform_one(47, value);
