@@ -22,21 +22,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-struct Projector {
-  render::CameraMatrices m;
-  int width = 0, height = 0;
-  // Pixel coordinates with OpenCV's convention (pixel centres at integers, row 0 on top);
-  // false behind the camera.
-  bool project(const Eigen::Vector3f& p, cv::Point2d& out) const {
-    const Eigen::Vector4f c = m.view * Eigen::Vector4f(p.x(), p.y(), p.z(), 1.0f);
-    if (c.z() >= 0) return false;
-    const double x_ndc = m.projection(0, 0) * c.x() / -c.z();
-    const double y_ndc = m.projection(1, 1) * c.y() / -c.z();
-    out = {(x_ndc + 1.0) * width / 2.0 - 0.5, (1.0 - y_ndc) * height / 2.0 - 0.5};
-    return true;
-  }
-};
-
 // A raised-cosine bump: 0 outside [start, start + length], 1 at its middle.
 double bump(double t, double start, double length) {
   if (t < start || t > start + length) return 0;
@@ -265,8 +250,8 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
     pose.distance = base_distance * (1.0 + o.distance_amp * std::sin(0.41 * w + phase_dist));
 
     face.render_into(frame, pose, image);
-    const Projector projector{render::frame_camera(pose, face.framing(), aspect), o.width,
-                              o.height};
+    const render::PixelProjector projector{render::frame_camera(pose, face.framing(), aspect),
+                                           o.width, o.height};
     const auto& positions = face.positions();
     face.deformer().normals(positions, normals);
 

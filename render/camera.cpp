@@ -139,4 +139,13 @@ CameraMatrices frame_camera(const CameraPose& pose, const Bounds& frame, double 
   return m;
 }
 
+bool PixelProjector::project(const Eigen::Vector3f& p, cv::Point2d& out) const {
+  const Eigen::Vector4f c = m.view * Eigen::Vector4f(p.x(), p.y(), p.z(), 1.0f);
+  if (c.z() >= 0) return false;
+  const double x_ndc = m.projection(0, 0) * c.x() / -c.z();
+  const double y_ndc = m.projection(1, 1) * c.y() / -c.z();
+  out = {(x_ndc + 1.0) * width / 2.0 - 0.5, (1.0 - y_ndc) * height / 2.0 - 0.5};
+  return true;
+}
+
 }  // namespace rostro::render

@@ -3,6 +3,7 @@
 // view, and a distance that by default is chosen so the head's bounding box fills the view.
 
 #include <Eigen/Core>
+#include <opencv2/core.hpp>
 #include <string>
 #include <string_view>
 
@@ -37,5 +38,14 @@ struct CameraMatrices {
 // Places the camera for a viewport of `aspect` = width / height around `frame` (usually the
 // neutral mesh's bounds, so the camera stays put while the face moves).
 CameraMatrices frame_camera(const CameraPose& pose, const Bounds& frame, double aspect);
+
+// Model points to the pixels of a width x height image seen through `m`, with OpenCV's
+// convention (pixel centres at integers, row 0 on top): where the renderer draws them.
+struct PixelProjector {
+  CameraMatrices m;
+  int width = 0, height = 0;
+  // False behind the camera.
+  bool project(const Eigen::Vector3f& p, cv::Point2d& out) const;
+};
 
 }  // namespace rostro::render
