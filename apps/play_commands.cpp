@@ -296,11 +296,11 @@ FapFrame pose_frame(const PoseOptions& o) {
   return frame;
 }
 
-// Neutral, the six expressions, visemes that shape the mouth in different ways, and a
-// three-quarter view: a page that shows at a glance what the head can do.
+// Neutral, the six expressions, visemes that shape the mouth in different ways, a
+// three-quarter view and a profile: a page that shows at a glance what the head can do.
 cv::Mat make_sheet(render::FaceRenderer& face, const render::CameraPose& pose) {
   std::vector<render::SheetTile> tiles;
-  Progress progress("contact sheet", 15);
+  Progress progress("contact sheet", 16);
   tiles.push_back({face.render(FapFrame{}, pose), "neutral"});
   for (int select = 1; select <= 6; ++select) {
     FapFrame frame;
@@ -329,8 +329,12 @@ cv::Mat make_sheet(render::FaceRenderer& face, const render::CameraPose& pose) {
   e.intensity1 = 63;
   joy.set_expression(e);
   tiles.push_back({face.render(joy, render::CameraPose::three_quarter()), "joy, 3/4 view"});
+  render::CameraPose profile;  // framed on the front view's box, so wider for the head's depth
+  profile.yaw_deg = 90;
+  profile.margin = 1.5;
+  tiles.push_back({face.render(FapFrame{}, profile), "neutral, profile"});
   progress.finish();
-  return render::contact_sheet(tiles, 5);
+  return render::contact_sheet(tiles, 4);
 }
 
 void pose_command(const PoseOptions& o) {
@@ -416,7 +420,7 @@ void add_play_commands(CLI::App& app) {
   pose_cmd->add_option("--viseme", pose_options.viseme,
                        "add a viseme (0..14 or a name: p_b_m, aa, ...)");
   pose_cmd->add_flag("--sheet", pose_options.sheet,
-                     "a contact sheet: neutral, the six expressions, visemes, a 3/4 view");
+                     "a contact sheet: neutral, the six expressions, visemes, a 3/4 view, a profile");
   add_view_options(pose_cmd, pose_options.view);
   pose_cmd->footer(
       "Example:\n"

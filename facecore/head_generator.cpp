@@ -27,6 +27,7 @@ constexpr double kMouthY = -32.0, kMouthHW = 23.5;  // mouth line, inner corners
 constexpr double kMouthOpen = 0.3;                  // neutral lips nearly touch: a dark line
 constexpr double kOuterCornerX = 25.5;
 constexpr double kCapY = 60.0, kCrownY = 122.0, kNeckY = -150.0;
+constexpr double kEarY = 19.0;  // the ears' centre height
 
 double clamp01(double t) {
   return std::clamp(t, 0.0, 1.0);
@@ -551,6 +552,34 @@ FaceModel generate_head(const HeadOptions& options) {
   m.parts.left_eyeball = left_eye;
   m.parts.right_eyeball = right_eye;
 
+  // --- Ears: a shell on each side of the head, its outer face dished into a bowl (the concha)
+  // inside a rim (the helix), tilted back, flaring out toward the back; the inner face lies in
+  // the head. The top of the left ear is 10.1, its back 10.3, its lobe 10.5.
+  const V3 ear_r(7.0, 29.0, 15.0);  // out from the head, up, front to back
+  auto ear = [&](double side) {
+    const V3 c(side * (curve(kHalfWidth, kEarY) + 3.0), kEarY, curve(kCentreZ, kEarY) - 12.0);
+    const double tilt = 12.0 * kPi / 180;  // the top leans back
+    std::vector<double> angles;
+    // Coarser than the eyeballs: the ears are seen small and from the side.
+    const int rings = std::max(6, segs / 3), segments = std::max(12, 2 * segs / 3);
+    for (int i = 1; i <= rings; ++i) angles.push_back(kPi * i / (rings + 1));
+    auto point = [&, c, side](double a, double t) {
+      const double uy = std::sin(a) * std::sin(t), uz = std::sin(a) * std::cos(t);
+      double out = ear_r.x() * std::cos(a);
+      if (a < kPi / 2) out -= 0.75 * ear_r.x() * std::exp(-(a / 0.8) * (a / 0.8));  // the bowl
+      const double y = ear_r.y() * uy, z = ear_r.z() * uz;
+      out += 0.25 * std::max(0.0, -z);  // flares out toward the back
+      return V3(c.x() + side * out, c.y() + y * std::cos(tilt) + z * std::sin(tilt),
+                c.z() + z * std::cos(tilt) - y * std::sin(tilt));
+    };
+    const Eigen::Vector3f ear_colour = mix(kSkinColour, Eigen::Vector3f(0.88f, 0.56f, 0.48f), 0.35);
+    LatLong ll = lat_long(
+        b, angles, segments, point, [&](std::size_t) { return ear_colour; }, kSkin, c, false);
+    return std::make_pair(ll.vertices, c);
+  };
+  const auto [left_ear, left_ear_c] = ear(+1);
+  ear(-1);
+
   // --- Mouth interior: an inward-facing bag behind the lips, open toward them.
   const V3 cavity_c(0, kMouthY, shape.eye_z - 10);
   const V3 cavity_r(32, 22, 28);
@@ -724,8 +753,21 @@ FaceModel generate_head(const HeadOptions& options) {
   fp[{11, 4}] = pole;
   fp[{11, 6}] = nearest(skin.vertices, V3(0, 30, -200), V3(1, 1, 0.2),
                         [&](int v) { return b.pos(v).x() == 0; });
-  fp[{10, 1}] = nearest(skin.vertices, V3(80, 40, -8), V3(0.3, 1, 1));
-  fp[{10, 5}] = nearest(skin.vertices, V3(80, 0, -8), V3(0.3, 1, 1));
+  {  // The left ear: its top, back and lobe; where it meets the head above and below.
+    auto extreme = [&](const std::function<double(const V3&)>& score, bool inner_only) {
+      int best = -1;
+      for (int v : left_ear)
+        if ((!inner_only || b.pos(v).x() < left_ear_c.x()) &&
+            (best < 0 || score(b.pos(v)) > score(b.pos(best))))
+          best = v;
+      return best;
+    };
+    fp[{10, 1}] = extreme([](const V3& p) { return p.y(); }, false);
+    fp[{10, 3}] = extreme([](const V3& p) { return -p.z(); }, false);
+    fp[{10, 5}] = extreme([](const V3& p) { return -p.y(); }, false);
+    fp[{10, 9}] = extreme([](const V3& p) { return p.y() + 0.5 * p.z(); }, true);
+    fp[{10, 7}] = extreme([](const V3& p) { return -p.y() + 0.5 * p.z(); }, true);
+  }
   fp[{6, 1}] = tongue.front_pole;
   fp[{6, 2}] = nearest(tongue.vertices, tongue_c + V3(0, tongue_r.y(), 0), V3::Ones());
   fp[{6, 3}] = nearest(tongue.vertices, tongue_c + V3(tongue_r.x(), 0, 0), V3::Ones());
@@ -947,6 +989,15 @@ FaceModel generate_head(const HeadOptions& options) {
                select(front_skin, [&](const V3& p, Side) { return (p - c).norm() < 9; }));
     r.d_max = 9;
     sided.push_back(r);
+  }
+  {  // Left ear: raised (FAP 65) from its top, pulled out (FAP 67) from its back, the part
+     // nearest the head moving least.
+    InfluenceRegion top = region("ear_top_l", InfluenceKind::RaisedCosine, {{10, 1}}, left_ear);
+    top.d_max = 2.2 * ear_r.y();
+    sided.push_back(top);
+    InfluenceRegion back = region("ear_back_l", InfluenceKind::RaisedCosine, {{10, 3}}, left_ear);
+    back.d_max = 2.2 * ear_r.z();
+    sided.push_back(back);
   }
   for (const InfluenceRegion& r : sided) {
     regions.push_back(r);
