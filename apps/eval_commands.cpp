@@ -36,6 +36,11 @@
 namespace rostro::app {
 namespace {
 
+// "2026-11-25 10:22 UTC": when a --markdown section was written.
+std::string utc_now() {
+  return fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr)));
+}
+
 std::vector<std::string> split_commas(const std::string& text) {
   std::vector<std::string> parts;
   std::stringstream in(text);
@@ -249,8 +254,7 @@ void eval_suite(const SuiteArgs& a) {
         "Written by `rostro eval suite --markdown`{} (rostro {}) on {}.\n\n{}\nLost "
         "marker-frames by the rule that dropped them (tracking::LostReason, kept while the "
         "marker stays lost; every layout marker, visible in the truth or not):\n\n{}",
-        options_note(a.tracker_options, {}), ROSTRO_VERSION,
-        fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        options_note(a.tracker_options, {}), ROSTRO_VERSION, utc_now(),
         eval::suite_table_markdown(rows), eval::loss_table_markdown(rows));
     eval::replace_markdown_section(a.markdown, "## Suite table", body);
     std::printf("table written to %s (section \"Suite table\")\n", a.markdown.c_str());
@@ -317,8 +321,7 @@ void eval_photos(const PhotosArgs& a) {
         "marker took, back in view after an occlusion, to be reported within 2 px (- no "
         "occlusion, never: not before the take ended or it was hidden again).\n\n{}\nLost "
         "marker-frames by the rule that dropped them (tracking::LostReason):\n\n{}",
-        options_note(a.tracker_options, {}), ROSTRO_VERSION,
-        fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        options_note(a.tracker_options, {}), ROSTRO_VERSION, utc_now(),
         eval::suite_table_markdown(suite_rows), eval::photo_table_markdown(rows),
         eval::loss_table_markdown(suite_rows));
     eval::replace_markdown_section(a.markdown, "## Photo scenes", body);
@@ -338,7 +341,7 @@ void eval_head(const HeadArgs& a) {
   options.landmark_model = a.landmark_model;
   options.image_dir = a.images;
   if (!a.images.empty()) std::filesystem::create_directories(a.images);
-  Progress progress("head check", static_cast<long>(options.yaws_deg.size()) * 7);
+  Progress progress("head check", eval::head_check_renders(options));
   InterruptScope interrupt;
   const eval::HeadCheckResult result =
       eval::check_head(model, library, options, [&](long done, long) {
@@ -357,9 +360,9 @@ void eval_head(const HeadArgs& a) {
         "feature points as the renderer projects them, in shares of the inter-ocular distance "
         "(the outer eye corners 3.12 to 3.7). Aim (issue 24): a face found on every render; on "
         "the neutral front view every checked landmark within {:.0f} %.\n\n{}",
-        ROSTRO_VERSION, fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
-        a.head.empty() ? std::string("the default head") : a.head, options.width, options.height,
-        100 * options.aim_share, eval::head_check_table_markdown(result));
+        ROSTRO_VERSION, utc_now(), a.head.empty() ? std::string("the default head") : a.head,
+        options.width, options.height, 100 * options.aim_share,
+        eval::head_check_table_markdown(result));
     eval::replace_markdown_section(a.markdown, "## The head as a face detector reads it", body);
     std::printf("table written to %s (section \"The head as a face detector reads it\")\n",
                 a.markdown.c_str());
@@ -455,8 +458,7 @@ void eval_loop(const LoopArgs& a) {
         "hierarchy.\n\n```sh\nrostro eval loop{}                               # prints the "
         "tables\nrostro eval loop{} --markdown docs/accuracy.md   # and rewrites this "
         "section\nrostro eval loop --only still,turns            # a subset\n```\n\n{}\n\n{}{}\n{}",
-        flag, options_note(a.tracker_options, a.solver_options), ROSTRO_VERSION,
-        fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
+        flag, options_note(a.tracker_options, a.solver_options), ROSTRO_VERSION, utc_now(),
         a.file.empty() ? "data/eval/closed_loop.json" : a.file,
         a.face.markerless ? "the head bare, tracked by dlib's 68 landmarks (`--markerless`)"
                           : "tracked with automatic identification of the markers",
@@ -515,8 +517,7 @@ void eval_alignment(const AlignmentArgs& a) {
         "frame from the phoneme; match ratio: the transcript check of speech/forced_align.hpp "
         "(refused above {:.2f}), for the right transcript and for another text in the same "
         "language.\n\n{}",
-        ROSTRO_VERSION, fmt::format("{:%Y-%m-%d %H:%M} UTC", fmt::gmtime(std::time(nullptr))),
-        refused_above, table);
+        ROSTRO_VERSION, utc_now(), refused_above, table);
     eval::replace_markdown_section(a.markdown, "## Speech alignment", body);
     std::printf("table written to %s (section \"Speech alignment\")\n", a.markdown.c_str());
   }

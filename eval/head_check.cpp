@@ -21,6 +21,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const FeaturePointId kRightOuterEye{3, 12}, kLeftOuterEye{3, 7};
+constexpr int kExpressions = 6;  // ExpressionLibrary's 1..6; 0 is neutral
 
 FapFrame expression_frame(int select, int intensity) {
   FapFrame frame;
@@ -106,6 +107,10 @@ const std::vector<HeadFeature>& head_check_features() {
   return features;
 }
 
+long head_check_renders(const HeadCheckOptions& options) {
+  return static_cast<long>(options.yaws_deg.size()) * (kExpressions + 1);
+}
+
 HeadCheckResult check_head(const FaceModel& model, const ExpressionLibrary& library,
                            const HeadCheckOptions& options,
                            const std::function<void(long, long)>& progress) {
@@ -135,15 +140,14 @@ HeadCheckResult check_head(const FaceModel& model, const ExpressionLibrary& libr
 
   HeadCheckResult result;
   result.options = options;
-  bool any_scored = false;
-  const long total = static_cast<long>(options.yaws_deg.size()) * 7;
+  const long total = head_check_renders(options);
   cv::Mat bgr, gray;
   for (double yaw : options.yaws_deg) {
     render::CameraPose pose = render::CameraPose::front();
     pose.yaw_deg = yaw;
     const render::PixelProjector projector{render::frame_camera(pose, face.framing(), aspect),
                                            options.width, options.height};
-    for (int select = 0; select <= 6; ++select) {
+    for (int select = 0; select <= kExpressions; ++select) {
       HeadCheckRow row;
       row.expression = select == 0 ? std::string("neutral")
                                    : std::string(ExpressionLibrary::expression_name(select));
@@ -202,15 +206,15 @@ HeadCheckResult check_head(const FaceModel& model, const ExpressionLibrary& libr
       }
       ++result.renders;
       if (row.found) ++result.found;
-      if (row.scored) {
-        result.landmarks_met = (any_scored ? result.landmarks_met : true) && row.found &&
-                               row.worst_error <= options.aim_share;
-        any_scored = true;
-      }
       result.rows.push_back(row);
       if (progress) progress(result.renders, total);
     }
   }
+  // Met when the neutral front view was rendered and each of its landmarks is within the aim.
+  const auto scored = std::find_if(result.rows.begin(), result.rows.end(),
+                                   [](const HeadCheckRow& r) { return r.scored; });
+  result.landmarks_met =
+      scored != result.rows.end() && scored->found && scored->worst_error <= options.aim_share;
   return result;
 }
 

@@ -61,6 +61,9 @@ struct HeadCheckResult {
   bool landmarks_met = false;  // every feature of the scored rows within aim_share
 };
 
+// Renders check_head() makes with these options: each view, neutral and the six expressions.
+long head_check_renders(const HeadCheckOptions& options);
+
 // Throws render::RenderUnavailable without OpenGL, InputError for a missing landmark model or
 // a model without the checked feature points. `progress` gets renders done and the total.
 HeadCheckResult check_head(const FaceModel& model, const ExpressionLibrary& library,
