@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <optional>
 #include <sstream>
 
 #include "apps/checks.hpp"
@@ -28,6 +29,7 @@
 #include "facecore/face_model.hpp"
 #include "facecore/fap_io.hpp"
 #include "mapping/fap_solver.hpp"
+#include "render/video_writer.hpp"
 #include "speech/forced_align.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
@@ -262,7 +264,7 @@ void eval_suite(const SuiteArgs& a) {
 }
 
 struct PhotosArgs {
-  std::string file, fixtures, layout, markdown, only;
+  std::string file, fixtures, layout, markdown, only, out;
   std::vector<std::string> tracker_options;  // NAME=VALUE
 };
 
@@ -288,14 +290,31 @@ void eval_photos(const PhotosArgs& a) {
     const auto& s = chosen[i];
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.scene.seconds * s.scene.fps));
+    // With --out, the scene as a video and the tracks behind its row, so that a row can be
+    // replayed with `rostro track NAME.mp4 --overlay` and read with `rostro eval tracks`.
+    const std::filesystem::path dir(a.out);
+    std::optional<render::VideoWriter> video;
+    if (!a.out.empty()) {
+      std::filesystem::create_directories(dir);
+      render::VideoOptions v;
+      v.fps = s.scene.fps;
+      video.emplace(dir / (s.name + ".mp4"), v);
+    }
     rows.push_back(eval::run_photo_scenario(
         s, faces, layout,
         [&](long done, long) {
           interrupt.throw_if_requested();
           progress.update(done);
         },
-        tracker));
+        tracker,
+        video ? eval::PhotoFrameSink([&](const cv::Mat& bgr) { video->write(bgr); })
+              : eval::PhotoFrameSink()));
     progress.finish();
+    if (video) {
+      video->finish();
+      tracking::write_tracks(dir / (s.name + ".tracks.csv"), rows.back().tracks);
+      tracking::write_tracks(dir / (s.name + ".truth.csv"), rows.back().truth);
+    }
   }
   std::vector<eval::SuiteRow> suite_rows;
   for (const eval::PhotoRow& r : rows) suite_rows.push_back(r.suite);
@@ -611,6 +630,9 @@ void add_eval_commands(CLI::App& app) {
   photos->add_option("--only", ph.only, "run only these scenes, e.g. still,blur");
   photos->add_option("--markdown", ph.markdown,
                      "write the tables into this Markdown file's \"## Photo scenes\" section");
+  photos->add_option("--out", ph.out,
+                     "also write each scene here as a video and its tracked and exact marker "
+                     "tracks (NAME.mp4, NAME.tracks.csv, NAME.truth.csv)");
   photos->add_option("--tracker-option", ph.tracker_options,
                      "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. "
                      "dots.max_elongation=4");

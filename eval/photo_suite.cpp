@@ -145,7 +145,8 @@ void count_hidden_and_reacquire(const std::vector<tracking::TrackedFrame>& truth
 PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path& faces,
                             const tracking::MarkerLayout& layout,
                             const std::function<void(long, long)>& progress,
-                            const tracking::TrackerOptions& tracker_options) {
+                            const tracking::TrackerOptions& tracker_options,
+                            const PhotoFrameSink& frames) {
   PhotoSceneOptions o = s.scene;
   o.photo = faces / s.scene.photo;
   tracking::MarkerTracker tracker(layout, tracker_options);
@@ -155,6 +156,7 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
   const PhotoSceneResult scene = render_photo_scene(
       o, layout,
       [&](const cv::Mat& bgr) {
+        if (frames) frames(bgr);
         const auto n = static_cast<long>(tracked.size());
         tracked.push_back(tracker.track(bgr, n, static_cast<double>(n) / o.fps));
         for (const tracking::MarkerState& m : tracker.states())
@@ -168,6 +170,8 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
   row.suite.frames = static_cast<long>(tracked.size());
   row.suite.result = evaluate_tracks(scene.truth, tracked);
   count_hidden_and_reacquire(scene.truth, tracked, row);
+  row.truth = scene.truth;
+  row.tracks = std::move(tracked);
   return row;
 }
 

@@ -51,14 +51,17 @@ struct PhotoRow {
   // truth; -1 when one never came back before it was hidden again or the take ended; 0 when
   // every one was back on its first visible frame or there was no such occlusion.
   long worst_reacquire = 0;
-  long occlusions = 0;  // such returns into view counted
+  long occlusions = 0;                                // such returns into view counted
+  std::vector<tracking::TrackedFrame> truth, tracks;  // behind the figures, one per frame
 };
 
-// Renders and tracks one scenario with `layout`; `faces` is the folder its photo is in.
+// Renders and tracks one scenario with `layout`; `faces` is the folder its photo is in. Each
+// rendered frame also goes to `frames` when given (a video of the scene).
 PhotoRow run_photo_scenario(const PhotoScenario& scenario, const std::filesystem::path& faces,
                             const tracking::MarkerLayout& layout,
                             const std::function<void(long, long)>& progress = {},
-                            const tracking::TrackerOptions& tracker_options = {});
+                            const tracking::TrackerOptions& tracker_options = {},
+                            const PhotoFrameSink& frames = {});
 
 // Hidden-but-reported and reacquisition (PhotoRow's fields) from a truth and an estimate with
 // the same frames and markers in the same order.

@@ -1,10 +1,12 @@
-// The photo scenes file (data/eval/photo_scenes.json) and the counts `rostro eval photos` adds
-// to the suite's columns: markers reported while hidden, frames to reacquire.
+// The photo scenes file (data/eval/photo_scenes.json), the counts `rostro eval photos` adds
+// to the suite's columns (markers reported while hidden, frames to reacquire), and what a
+// scenario's run keeps for `--out`.
 
 #include "eval/photo_suite.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 
@@ -73,6 +75,34 @@ TEST(PhotoSuite, DefaultFileCoversEveryPhotoAndTheIssuesCases) {
   EXPECT_EQ(photos, (std::set<std::string>{"2007_007763.jpg", "2008_001009.jpg", "2008_001322.jpg",
                                            "2008_002079.jpg", "bald_guys.jpg"}));
   EXPECT_TRUE(blur && enter && hand && vga);
+}
+
+TEST(PhotoSuite, ARunKeepsItsFramesTracksAndTruth) {
+  const std::filesystem::path faces = default_faces_dir();
+  if (!std::filesystem::is_directory(faces))
+    GTEST_SKIP() << faces << " is absent (../shared beside the repository)";
+  PhotoScenario s;
+  s.name = "short";
+  s.scene.photo = "bald_guys.jpg";
+  s.scene.size = cv::Size(640, 480);
+  s.scene.face_px = 200;
+  s.scene.dot_px = 6;
+  s.scene.seconds = 0.4;
+  const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
+  long frames = 0;
+  const PhotoRow row = run_photo_scenario(s, faces, layout, {}, {}, [&](const cv::Mat& bgr) {
+    EXPECT_EQ(bgr.size(), cv::Size(640, 480));
+    ++frames;
+  });
+  EXPECT_EQ(frames, 10);
+  ASSERT_EQ(row.tracks.size(), 10u);
+  ASSERT_EQ(row.truth.size(), 10u);
+  EXPECT_EQ(row.suite.frames, 10);
+  // Every layout marker in both, each frame; the tracker starts on a still, sharp face.
+  const auto& first = row.tracks.front().markers;
+  EXPECT_TRUE(std::any_of(first.begin(), first.end(),
+                          [](const tracking::MarkerObservation& m) { return m.valid; }));
+  EXPECT_EQ(first.size(), row.truth.front().markers.size());
 }
 
 TEST(PhotoSuite, UnknownKeyIsAnInputErrorNamingIt) {
