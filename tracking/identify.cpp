@@ -110,6 +110,7 @@ void IdentificationOptions::validate() const {
   OptionCheck("IdentificationOptions")
       .positive("gate", gate)
       .at_least("size_factor", size_factor, 1)
+      .at_least("shape_factor", shape_factor, 1)
       .within("min_explained", min_explained, 0, 1)
       .positive("max_residual", max_residual)
       .within("min_margin", min_margin, 0, 1)
@@ -213,18 +214,21 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
   auto scale_of = [](const cv::Matx23d& m) {
     return std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
   };
-  // Detections of the dots' common size, judged against the median of `match`'s (all while
-  // nothing is matched).
-  auto sized_like = [&](const std::vector<int>& match) {
-    std::vector<double> d;
+  // Detections of the dots' common size and shape, judged against the medians of `match`'s
+  // (all while nothing is matched).
+  auto dot_like = [&](const std::vector<int>& match) {
+    std::vector<double> d, e;
     for (int k : match)
-      if (k >= 0) d.push_back(dots[static_cast<size_t>(k)].diameter);
+      if (k >= 0)
+        d.push_back(dots[static_cast<size_t>(k)].diameter),
+            e.push_back(dots[static_cast<size_t>(k)].elongation);
     std::vector<bool> ok(dots.size(), true);
     if (d.size() < 3) return ok;
-    const double median = quantile(d, 0.5, 0);
+    const double median = quantile(d, 0.5, 0), elongation = quantile(e, 0.5, 1);
     for (size_t k = 0; k < dots.size(); ++k)
       ok[k] = dots[k].diameter <= median * options.size_factor &&
-              dots[k].diameter >= median / options.size_factor;
+              dots[k].diameter >= median / options.size_factor &&
+              dots[k].elongation <= elongation * options.shape_factor;
     return ok;
   };
   // How many of the tags read lie where `mapping` puts them (their centres: a side tag on a
@@ -254,7 +258,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     at.match.assign(layout_dots.size(), -1);
     for (int round = 0; round < 5; ++round) {
       const double scale = scale_of(at.mapping);
-      const std::vector<bool> usable = sized_like(at.match);
+      const std::vector<bool> usable = dot_like(at.match);
       struct Pair {
         double distance;
         size_t layout;
@@ -370,7 +374,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     const cv::Matx23d& m = best.mapping;
     const double scale = scale_of(m);
     const size_t n = layout_dots.size(), k_count = dots.size();
-    const std::vector<bool> usable = sized_like(best.match);
+    const std::vector<bool> usable = dot_like(best.match);
     std::vector<cv::Point2d> base(n);
     for (size_t i = 0; i < n; ++i) base[i] = apply(m, layout_points[i]);
     // A model of the face, where the tags agree with it, places the dots it knows better than

@@ -31,6 +31,12 @@ struct IdentificationOptions {
   // than the matched detections' median diameter (a pupil, a nostril, a clump of hair) is
   // given to no dot.
   double size_factor = 1.5;
+  // And one shape: a painted dot is round, so its image is about as long for its width as the
+  // other dots' (motion blur smears them all alike, a turn foreshortens its neighbours alike),
+  // where a lip corner, a gap between teeth or the eye's slit is a blob twice as long as wide.
+  // A detection whose elongation is more than this factor above the matched detections'
+  // median is given to no dot.
+  double shape_factor = 1.5;
   // A confident identification meets all of these.
   double min_explained = 0.8;  // share of the layout's dots given a detection
   double max_residual = 0.3;   // IdentificationConfidence::residual

@@ -1,6 +1,8 @@
 // Dark features that are no markers, and markers the layout misplaces: the pupil (a dark
-// disc in the darker iris) is not taken for a dot, a lost lid dot is found beside it, and a
-// pair of dots both shifted from the layout's places (the chin under a nod) keep their names.
+// disc in the darker iris) is not taken for a dot, a lost lid dot is found beside it, a pair
+// of dots both shifted from the layout's places (the chin under a nod) keep their names, and a
+// long dark blob where the layout puts a dot (the lip corner beside a mouth-corner dot worn
+// on the skin) is not named in its place.
 
 #include <gtest/gtest.h>
 
@@ -71,6 +73,21 @@ TEST(DarkFeatures, DotCentreIsNotPulledByAnAdjacentDarkFeature) {
   EXPECT_LT(cv::norm(dot->center - centre), 0.15);
 }
 
+// The layout's dots at their frontal places, 3 pixels a millimetre, those in `moved` shifted.
+std::vector<Dot> layout_dots(const MarkerLayout& layout,
+                             const std::map<std::string, cv::Point2d>& moved,
+                             std::map<std::string, cv::Point2d>& truth) {
+  std::vector<Dot> dots;
+  for (const MarkerSpec& m : layout.markers) {
+    if (m.is_tag()) continue;
+    cv::Point2d p = cv::Point2d(320, 240) + 3 * m.frontal();
+    if (auto it = moved.find(m.id); it != moved.end()) p += it->second;
+    truth[m.id] = p;
+    dots.push_back({p, 8, 100, 0});
+  }
+  return dots;
+}
+
 TEST(Identify, TwoDotsShiftedTheSameWayKeepTheirNames) {
   const MarkerLayout layout =
       load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
@@ -80,24 +97,46 @@ TEST(Identify, TwoDotsShiftedTheSameWayKeepTheirNames) {
   const double spacing = cv::norm(chin->frontal() - chin_boss->frontal());
   // Both 0.6 of their spacing further down than the layout says: the chin boss's dot is then
   // nearer the chin's place than its own.
-  const cv::Point2d down(0, 0.6 * spacing);
-  const double px_per_mm = 3;
-  const cv::Point2d origin(320, 240);
-  std::vector<Dot> dots;
+  const cv::Point2d down(0, 0.6 * spacing * 3);
   std::map<std::string, cv::Point2d> truth;
-  for (const MarkerSpec& m : layout.markers) {
-    if (m.is_tag()) continue;
-    cv::Point2d p = m.frontal();
-    if (&m == chin || &m == chin_boss) p += down;
-    truth[m.id] = origin + px_per_mm * p;
-    dots.push_back({truth[m.id], 8, 100, 0});
-  }
+  const std::vector<Dot> dots = layout_dots(layout, {{"chin", down}, {"chin_boss", down}}, truth);
   const Identification id = identify_markers(layout, dots, {});
   for (const auto& [name, at] : truth) {
     auto it = id.dots.find(name);
     ASSERT_NE(it, id.dots.end()) << name;
     EXPECT_LT(cv::norm(it->second.center - at), 1e-9) << name;
   }
+}
+
+TEST(Identify, ALongBlobAtADotsPlaceIsNotNamedForIt) {
+  const MarkerLayout layout =
+      load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
+  const MarkerSpec* corner = layout.find("mouth_l");
+  ASSERT_TRUE(corner);
+  double spacing = 1e9;
+  for (const MarkerSpec& m : layout.markers)
+    if (!m.is_tag() && &m != corner)
+      spacing = std::min(spacing, cv::norm(m.frontal() - corner->frontal()));
+  // The dot is worn on the skin 0.6 of its spacing out from where the layout puts it; the lip
+  // corner, as dark, lies exactly there, twice as long as wide.
+  std::map<std::string, cv::Point2d> truth;
+  std::vector<Dot> dots =
+      layout_dots(layout, {{"mouth_l", cv::Point2d(0.6 * spacing * 3, 0)}}, truth);
+  Dot lip_corner{cv::Point2d(320, 240) + 3 * corner->frontal(), 8, 100, 0.3, 2.2};
+  dots.push_back(lip_corner);
+
+  const Identification id = identify_markers(layout, dots, {});
+  for (const auto& [name, at] : truth) {
+    auto it = id.dots.find(name);
+    ASSERT_NE(it, id.dots.end()) << name;
+    EXPECT_LT(cv::norm(it->second.center - at), 1e-9) << name;
+  }
+  // The shape is what tells them apart: judged by place alone, the blob takes the name.
+  IdentificationOptions any_shape;
+  any_shape.shape_factor = 100;
+  const Identification by_place = identify_markers(layout, dots, {}, any_shape);
+  ASSERT_TRUE(by_place.dots.count("mouth_l"));
+  EXPECT_LT(cv::norm(by_place.dots.at("mouth_l").center - lip_corner.center), 1e-9);
 }
 
 }  // namespace
