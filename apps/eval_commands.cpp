@@ -425,7 +425,8 @@ void eval_loop(const LoopArgs& a) {
   // already in --out stay: each is a whole file).
   InterruptScope interrupt;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
-    const auto& s = chosen[i];
+    eval::LoopScenario s = chosen[i];
+    if (a.face.markerless) s.aim = s.markerless_aim;
     if (!s.skip_reason.empty()) {
       std::fprintf(stderr, "skipped %s: %s\n", s.name.c_str(), s.skip_reason.c_str());
       skipped += fmt::format("- {} skipped: {}\n", s.name, s.skip_reason);
@@ -462,7 +463,7 @@ void eval_loop(const LoopArgs& a) {
       }
     }
   }
-  std::printf("%s\n\n", eval::loop_definitions().c_str());
+  std::printf("%s\n\n", eval::loop_definitions(a.face.markerless).c_str());
   std::fputs(eval::loop_summary_text(results).c_str(), stdout);
   for (const auto& r : results) std::printf("\n%s", eval::loop_fap_table_text(r).c_str());
   if (!a.markdown.empty()) {
@@ -481,7 +482,7 @@ void eval_loop(const LoopArgs& a) {
         a.file.empty() ? "data/eval/closed_loop.json" : a.file,
         a.face.markerless ? "the head bare, tracked by dlib's 68 landmarks (`--markerless`)"
                           : "tracked with automatic identification of the markers",
-        flag, flag, eval::loop_definitions(), scenarios, skipped,
+        flag, flag, eval::loop_definitions(a.face.markerless), scenarios, skipped,
         eval::loop_summary_markdown(results));
     for (const auto& r : results)
       body += fmt::format("\n### {} ({} frames)\n\n{}", r.title, r.frames,

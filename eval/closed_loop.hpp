@@ -21,8 +21,10 @@
 // "shared:REL" under the shared folder: $ROSTRO_SHARED, else ../shared beside the repository),
 // fps (range of motion only), seconds (cut the drive), seed, neutral_lead, head_yaw,
 // head_pitch, head_roll, head_period (eval::HeadSweeps, starting after the lead-in), aim (a
-// share: default 0.05 with a still head, 0.08 with head sweeps). Top-level keys size, seed,
-// fps, neutral_lead, calibration_seconds, head_period are defaults.
+// share: default 0.05 with a still head, 0.08 with head sweeps), markerless_aim (the aim when
+// the head is rendered bare and tracked by its landmarks: default 0.10 still, 0.15 with head
+// sweeps, issue 17's). Top-level keys size, seed, fps, neutral_lead, calibration_seconds,
+// head_period are defaults.
 
 #include <array>
 #include <filesystem>
@@ -53,6 +55,7 @@ struct LoopScenario {
   double calibration_seconds = 1.0;       // the first frames the actor is calibrated from
   HeadSweeps head;                        // start_s is set to the lead-in
   double aim = 0.05;                      // RMS / range, every tracked FAP
+  double markerless_aim = 0.10;           // the same for the bare head (`--markerless`)
   SynthOptions synth;
 };
 
@@ -142,6 +145,6 @@ std::string loop_fap_table_markdown(const LoopResult& result);
 // "Driven, not tracked: ..." with the Ceres RMS share of each; empty when there is none.
 std::string loop_untracked_line(const LoopResult& result);
 // One paragraph: what "tracked FAPs" means and how the figures are made.
-std::string loop_definitions();
+std::string loop_definitions(bool markerless = false);
 
 }  // namespace rostro::eval

@@ -84,6 +84,24 @@ TEST(ClosedLoopFile, ErrorsNameTheFileAndTheKey) {
   EXPECT_NE(error_of([&] { load_closed_loop(repeat); }).find("repeats"), std::string::npos);
   const auto aim = temp_file("aim.json", R"({"scenarios": [{"name": "a", "aim": 5}]})");
   EXPECT_NE(error_of([&] { load_closed_loop(aim); }).find("'aim'"), std::string::npos);
+  const auto bare_aim =
+      temp_file("bare_aim.json", R"({"scenarios": [{"name": "a", "markerless_aim": 0}]})");
+  EXPECT_NE(error_of([&] { load_closed_loop(bare_aim); }).find("'markerless_aim'"),
+            std::string::npos);
+}
+
+TEST(ClosedLoopFile, AimsDependOnTheHeadsMotionAndOnMarkers) {
+  const auto path = temp_file("aims.json", R"({"scenarios": [{"name": "still"},
+      {"name": "turns", "head_yaw": 25}, {"name": "own", "aim": 0.2, "markerless_aim": 0.3}]})");
+  const LoopDefinition d = load_closed_loop(path);
+  ASSERT_EQ(d.scenarios.size(), 3u);
+  // Markers: issue 6's 5 % and 8 %; a bare face: issue 17's 10 % and 15 %.
+  EXPECT_DOUBLE_EQ(d.scenarios[0].aim, 0.05);
+  EXPECT_DOUBLE_EQ(d.scenarios[0].markerless_aim, 0.10);
+  EXPECT_DOUBLE_EQ(d.scenarios[1].aim, 0.08);
+  EXPECT_DOUBLE_EQ(d.scenarios[1].markerless_aim, 0.15);
+  EXPECT_DOUBLE_EQ(d.scenarios[2].aim, 0.2);
+  EXPECT_DOUBLE_EQ(d.scenarios[2].markerless_aim, 0.3);
 }
 
 TEST(ClosedLoopFile, AbsentSharedDriveIsSkippedNotAnError) {
