@@ -291,7 +291,7 @@ void eval_photos(const PhotosArgs& a) {
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.scene.seconds * s.scene.fps));
     // With --out, the scene as a video and the tracks behind its row, so that a row can be
-    // replayed with `rostro track NAME.mp4 --overlay` and read with `rostro eval tracks`.
+    // replayed with `rostro track NAME.mp4 --overlay ...` and read with `rostro eval tracks`.
     const std::filesystem::path dir(a.out);
     std::optional<render::VideoWriter> video;
     if (!a.out.empty()) {
