@@ -111,6 +111,7 @@ void IdentificationOptions::validate() const {
       .positive("gate", gate)
       .at_least("size_factor", size_factor, 1)
       .at_least("shape_factor", shape_factor, 1)
+      .within("alone_share", alone_share, 0, 1)
       .within("min_explained", min_explained, 0, 1)
       .positive("max_residual", max_residual)
       .within("min_margin", min_margin, 0, 1)
@@ -228,7 +229,8 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     for (size_t k = 0; k < dots.size(); ++k)
       ok[k] = dots[k].diameter <= median * options.size_factor &&
               dots[k].diameter >= median / options.size_factor &&
-              dots[k].elongation <= elongation * options.shape_factor;
+              (dots[k].elongation <= elongation * options.shape_factor ||
+               dots[k].share <= options.alone_share);
     return ok;
   };
   // How many of the tags read lie where `mapping` puts them (their centres: a side tag on a

@@ -33,10 +33,14 @@ struct IdentificationOptions {
   double size_factor = 1.5;
   // And one shape: a painted dot is round, so its image is about as long for its width as the
   // other dots' (motion blur smears them all alike, a turn foreshortens its neighbours alike),
-  // where a lip corner, a gap between teeth or the eye's slit is a blob twice as long as wide.
-  // A detection whose elongation is more than this factor above the matched detections'
-  // median is given to no dot.
+  // where a lip corner, a gap between teeth or the eye's slit is a blob twice as long as wide
+  // that stood apart from the darker feature it runs into only when measured high up its
+  // contrast (Dot::share). A detection more than `shape_factor` times as elongated as the
+  // matched detections' median and measured above `alone_share` is given to no dot. A dot on
+  // skin that turns away from the camera (the chin's, seen from the front) is long too, but
+  // stands alone: it is measured low.
   double shape_factor = 1.5;
+  double alone_share = 0.6;
   // A confident identification meets all of these.
   double min_explained = 0.8;  // share of the layout's dots given a detection
   double max_residual = 0.3;   // IdentificationConfidence::residual

@@ -118,11 +118,12 @@ TEST(Identify, ALongBlobAtADotsPlaceIsNotNamedForIt) {
     if (!m.is_tag() && &m != corner)
       spacing = std::min(spacing, cv::norm(m.frontal() - corner->frontal()));
   // The dot is worn on the skin 0.6 of its spacing out from where the layout puts it; the lip
-  // corner, as dark, lies exactly there, twice as long as wide.
+  // corner, as dark, lies exactly there, twice as long as wide, and stood apart from the lips
+  // only measured high up its contrast.
   std::map<std::string, cv::Point2d> truth;
   std::vector<Dot> dots =
       layout_dots(layout, {{"mouth_l", cv::Point2d(0.6 * spacing * 3, 0)}}, truth);
-  Dot lip_corner{cv::Point2d(320, 240) + 3 * corner->frontal(), 8, 100, 0.3, 2.2};
+  Dot lip_corner{cv::Point2d(320, 240) + 3 * corner->frontal(), 8, 100, 0.3, 2.2, 0.9};
   dots.push_back(lip_corner);
 
   const Identification id = identify_markers(layout, dots, {});
@@ -137,6 +138,24 @@ TEST(Identify, ALongBlobAtADotsPlaceIsNotNamedForIt) {
   const Identification by_place = identify_markers(layout, dots, {}, any_shape);
   ASSERT_TRUE(by_place.dots.count("mouth_l"));
   EXPECT_LT(cv::norm(by_place.dots.at("mouth_l").center - lip_corner.center), 1e-9);
+}
+
+TEST(Identify, ADotForeshortenedOnSkinThatTurnsAwayIsStillNamed) {
+  const MarkerLayout layout =
+      load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
+  // The chin's dot seen from the front lies on skin turned away from the camera: twice as long
+  // as wide, but standing alone on the skin (measured at half its contrast).
+  std::map<std::string, cv::Point2d> truth;
+  std::vector<Dot> dots = layout_dots(layout, {}, truth);
+  for (Dot& d : dots)
+    if (cv::norm(d.center - truth.at("chin")) < 1e-9) d.elongation = 2.2, d.share = 0.5;
+  const Identification id = identify_markers(layout, dots, {});
+  ASSERT_TRUE(id.dots.count("chin"));
+  EXPECT_LT(cv::norm(id.dots.at("chin").center - truth.at("chin")), 1e-9);
+  // Judged by its shape alone, it would be no dot.
+  IdentificationOptions shape_alone;
+  shape_alone.alone_share = 0;
+  EXPECT_FALSE(identify_markers(layout, dots, {}, shape_alone).dots.count("chin"));
 }
 
 }  // namespace
