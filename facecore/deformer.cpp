@@ -45,6 +45,37 @@ Eigen::Matrix3d rotation(double pitch, double yaw, double roll) {
       .toRotationMatrix();
 }
 
+// The head's turn p -> r p + t as plain scalars, so that the loops keep them in registers.
+struct Turn {
+  float r00, r01, r02, r10, r11, r12, r20, r21, r22, t0, t1, t2;
+};
+
+// Places the vertices [begin, end) of a run: neutral place plus the weighted displacements of
+// the run's `count` channels (the weights packed per vertex), turned with the head. kCount >= 0
+// fixes the count when compiling, so that the channels' displacements stay in registers and
+// the rigid runs (count 0) vectorise; -1 takes it from `count`.
+template <int kCount>
+void place_run(int begin, int end, int count, const float* __restrict weights,
+               const int* __restrict channels, const Eigen::Matrix4Xf& displacement,
+               const float* __restrict neutral, const Turn m, float* __restrict o) {
+  const int n = kCount >= 0 ? kCount : count;
+  constexpr int kHeld = kCount > 0 ? kCount : 1;
+  Eigen::Vector4f held[kHeld];
+  for (int j = 0; j < kCount; ++j) held[j] = displacement.col(channels[j]);
+  for (long v = 3L * begin; v < 3L * end; v += 3, weights += n) {
+    Eigen::Vector4f sum = Eigen::Vector4f::Zero();
+    if constexpr (kCount >= 0) {
+      for (int j = 0; j < kCount; ++j) sum += weights[j] * held[j];
+    } else {
+      for (int j = 0; j < n; ++j) sum += weights[j] * displacement.col(channels[j]);
+    }
+    const float x = neutral[v] + sum[0], y = neutral[v + 1] + sum[1], z = neutral[v + 2] + sum[2];
+    o[v] = m.r00 * x + m.r01 * y + m.r02 * z + m.t0;
+    o[v + 1] = m.r10 * x + m.r11 * y + m.r12 * z + m.t1;
+    o[v + 2] = m.r20 * x + m.r21 * y + m.r22 * z + m.t2;
+  }
+}
+
 }  // namespace
 
 Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
@@ -162,44 +193,41 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
   for (Eigen::Index v = 0; v < n_vertices; ++v)
     neutral_.col(v) = model.positions[static_cast<std::size_t>(v)];
 
-  // The vertices that move, with their weights and direct terms as rows of their own.
-  std::vector<int> row_of(static_cast<std::size_t>(n_vertices), -1);
-  for (Eigen::Index v = 0; v < n_vertices; ++v)
-    if (vertex_weights.outerIndexPtr()[v + 1] > vertex_weights.outerIndexPtr()[v])
-      row_of[static_cast<std::size_t>(v)] = 0;
-  for (Eigen::Index f = 0; f < direct_terms.outerSize(); ++f)
-    for (Eigen::SparseMatrix<float>::InnerIterator it(direct_terms, f); it; ++it)
-      row_of[static_cast<std::size_t>(it.row() / 3)] = 0;
-  // Consecutive vertices of one kind form a run; runs are cut at kRunMax vertices so that
-  // threads share them evenly.
-  auto extend = [](std::vector<VertexRun>& runs, int v, int row) {
-    if (runs.empty() || runs.back().end != v || runs.back().end - runs.back().begin >= kRunMax)
-      runs.push_back({v, v, row});
-    ++runs.back().end;
-  };
-  int n_rows = 0;
-  for (std::size_t v = 0; v < row_of.size(); ++v) {
-    if (row_of[v] == 0) {
-      row_of[v] = n_rows;
-      extend(moving_, static_cast<int>(v), n_rows++);
-    } else {
-      extend(still_, static_cast<int>(v), -1);
+  // Runs of consecutive vertices weighted on the same channels (in a region, all of them),
+  // cut at kRunMax vertices so that threads share them evenly.
+  const int* channels_of = vertex_weights.innerIndexPtr();
+  for (Eigen::Index v = 0; v < n_vertices; ++v) {
+    const int first = vertex_weights.outerIndexPtr()[v],
+              last = vertex_weights.outerIndexPtr()[v + 1];
+    const int u = static_cast<int>(v);
+    if (runs_.empty() || runs_.back().count != last - first ||
+        runs_.back().end - runs_.back().begin >= kRunMax ||
+        !std::equal(channels_of + first, channels_of + last,
+                    run_channels_.begin() + runs_.back().channels)) {
+      runs_.push_back({u, u, last - first, static_cast<int>(run_weights_.size()),
+                       static_cast<int>(run_channels_.size())});
+      run_channels_.insert(run_channels_.end(), channels_of + first, channels_of + last);
     }
+    ++runs_.back().end;
+    run_weights_.insert(run_weights_.end(), vertex_weights.valuePtr() + first,
+                        vertex_weights.valuePtr() + last);
   }
-  const auto n_moving = static_cast<Eigen::Index>(n_rows);
-  std::vector<Eigen::Triplet<float>> moving_weights, moving_direct;
-  for (Eigen::Index v = 0; v < n_vertices; ++v)
-    for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(vertex_weights, v); it; ++it)
-      moving_weights.emplace_back(row_of[static_cast<std::size_t>(v)], it.col(), it.value());
-  for (Eigen::Index f = 0; f < direct_terms.outerSize(); ++f)
-    for (Eigen::SparseMatrix<float>::InnerIterator it(direct_terms, f); it; ++it)
-      moving_direct.emplace_back(row_of[static_cast<std::size_t>(it.row() / 3)],
-                                 static_cast<int>(3 * f + it.row() % 3), it.value());
-  weights_.resize(n_moving, n_channels);
-  weights_.setFromTriplets(moving_weights.begin(), moving_weights.end());
-  weights_.makeCompressed();
-  direct_.resize(n_moving, 3 * kFapCount);
-  direct_.setFromTriplets(moving_direct.begin(), moving_direct.end());
+  // The vertices with direct terms, each a row of its own.
+  const Eigen::SparseMatrix<float, Eigen::RowMajor> direct_rows = direct_terms;  // 3V x 68
+  std::vector<Eigen::Triplet<float>> compact;
+  for (Eigen::Index v = 0; v < n_vertices; ++v) {
+    bool any = false;
+    for (int a = 0; a < 3; ++a)
+      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_rows, 3 * v + a);
+           it; ++it) {
+        compact.emplace_back(static_cast<int>(direct_vertices_.size()),
+                             static_cast<int>(3 * it.col() + a), it.value());
+        any = true;
+      }
+    if (any) direct_vertices_.push_back(static_cast<int>(v));
+  }
+  direct_.resize(static_cast<Eigen::Index>(direct_vertices_.size()), 3 * kFapCount);
+  direct_.setFromTriplets(compact.begin(), compact.end());
   direct_.makeCompressed();
 }
 
@@ -233,72 +261,62 @@ void Deformer::deform_low_level(const Eigen::VectorXd& faps,
                                 std::vector<Eigen::Vector3f>& out) const {
   const auto n = static_cast<long>(neutral_.cols());
   out.resize(static_cast<std::size_t>(n));
-  // The head turns about 7.1: p -> r p + (pivot - r pivot), here as plain scalars so that the
-  // loops keep them in registers.
+  // The head turns about 7.1: p -> r p + (pivot - r pivot).
   const double head_pitch = faps[kHeadPitch - 1] * kAngleUnitRad,
                head_yaw = faps[kHeadYaw - 1] * kAngleUnitRad,
                head_roll = faps[kHeadRoll - 1] * kAngleUnitRad;
   const Eigen::Matrix3f r = rotation(head_pitch, head_yaw, head_roll).cast<float>();
   const Eigen::Vector3f pivot = model_.head_pivot.cast<float>();
   const Eigen::Vector3f shift = pivot - r * pivot;
-  const float r00 = r(0, 0), r01 = r(0, 1), r02 = r(0, 2), r10 = r(1, 0), r11 = r(1, 1),
-              r12 = r(1, 2), r20 = r(2, 0), r21 = r(2, 1), r22 = r(2, 2);
-  const float t0 = shift[0], t1 = shift[1], t2 = shift[2];
+  const Turn turn{r(0, 0), r(0, 1), r(0, 2), r(1, 0),  r(1, 1),  r(1, 2),
+                  r(2, 0), r(2, 1), r(2, 2), shift[0], shift[1], shift[2]};
 
-  // Displacement of every channel's feature point, padded to four floats so that one entry
-  // of the weights is one vector multiply-add; the direct terms' FAP values as floats.
+  // Displacement of every channel's feature point, padded to four floats so that one weight
+  // is one vector multiply-add.
   const Eigen::VectorXd displacement = channel_faps_ * faps;
   Eigen::Matrix4Xf channels = Eigen::Matrix4Xf::Zero(4, displacement.size() / 3);
   for (Eigen::Index k = 0; k < channels.cols(); ++k)
     channels.col(k).head<3>() = displacement.segment<3>(3 * k).cast<float>();
   const Eigen::VectorXf fap_values = faps.cast<float>();
-  const float* fv = fap_values.data();
   const float* neutral = neutral_.data();
   float* o = out.data()->data();
-  const int* w_outer = weights_.outerIndexPtr();
-  const int* w_inner = weights_.innerIndexPtr();
-  const float* w_value = weights_.valuePtr();
-  const int* d_outer = direct_.outerIndexPtr();
-  const int* d_inner = direct_.innerIndexPtr();
-  const float* d_value = direct_.valuePtr();
-  const VertexRun* moving = moving_.data();
-  const auto n_moving = static_cast<long>(moving_.size());
-  const VertexRun* still = still_.data();
-  const auto n_still = static_cast<long>(still_.size());
+  const auto n_runs = static_cast<long>(runs_.size());
+  const auto n_direct = static_cast<long>(direct_vertices_.size());
   const int n_threads = threads();
   static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "out is read as packed floats");
 
 #pragma omp parallel num_threads(n_threads) if (n_threads > 1)
   {
-    // The vertices nothing moves: their neutral place, turned with the head.
-#pragma omp for schedule(dynamic, 4) nowait
-    for (long i = 0; i < n_still; ++i)
-      for (long v = 3L * still[i].begin; v < 3L * still[i].end; v += 3) {
-        const float x = neutral[v], y = neutral[v + 1], z = neutral[v + 2];
-        o[v] = r00 * x + r01 * y + r02 * z + t0;
-        o[v + 1] = r10 * x + r11 * y + r12 * z + t1;
-        o[v + 2] = r20 * x + r21 * y + r22 * z + t2;
+#pragma omp for schedule(dynamic, 4)
+    for (long i = 0; i < n_runs; ++i) {
+      const VertexRun& run = runs_[static_cast<std::size_t>(i)];
+      const float* w = run_weights_.data() + run.weights;
+      const int* c = run_channels_.data() + run.channels;
+      switch (run.count) {
+        case 0:
+          place_run<0>(run.begin, run.end, 0, w, c, channels, neutral, turn, o);
+          break;
+        case 1:
+          place_run<1>(run.begin, run.end, 1, w, c, channels, neutral, turn, o);
+          break;
+        case 2:
+          place_run<2>(run.begin, run.end, 2, w, c, channels, neutral, turn, o);
+          break;
+        case 3:
+          place_run<3>(run.begin, run.end, 3, w, c, channels, neutral, turn, o);
+          break;
+        default:
+          place_run<-1>(run.begin, run.end, run.count, w, c, channels, neutral, turn, o);
       }
-      // The others: neutral place plus displacement, turned.
-#pragma omp for schedule(dynamic, 4) nowait
-    for (long run = 0; run < n_moving; ++run)
-      for (int i = moving[run].row, u = moving[run].begin; u < moving[run].end; ++i, ++u) {
-        const long v = 3L * u;
-        Eigen::Vector4f sum = Eigen::Vector4f::Zero();
-        for (int k = w_outer[i]; k < w_outer[i + 1]; ++k)
-          sum += w_value[k] * channels.col(w_inner[k]);
-        float x = neutral[v] + sum[0], y = neutral[v + 1] + sum[1], z = neutral[v + 2] + sum[2];
-        for (int k = d_outer[i]; k < d_outer[i + 1]; ++k) {
-          const float term = d_value[k] * fv[d_inner[k] / 3];
-          const int axis = d_inner[k] % 3;
-          x += axis == 0 ? term : 0.0f;
-          y += axis == 1 ? term : 0.0f;
-          z += axis == 2 ? term : 0.0f;
-        }
-        o[v] = r00 * x + r01 * y + r02 * z + t0;
-        o[v + 1] = r10 * x + r11 * y + r12 * z + t1;
-        o[v + 2] = r20 * x + r21 * y + r22 * z + t2;
-      }
+    }
+    // The direct terms, turned with the head (after the loop above has placed the vertex).
+#pragma omp for schedule(static)
+    for (long i = 0; i < n_direct; ++i) {
+      Eigen::Vector3f d = Eigen::Vector3f::Zero();
+      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_, i); it; ++it)
+        d[it.col() % 3] += it.value() * fap_values[it.col() / 3];
+      out[static_cast<std::size_t>(direct_vertices_[static_cast<std::size_t>(i)])] += r * d;
+    }
   }
 
   // Eyeballs rotate about their (possibly thrust) centres before the head turns. For a vertex
@@ -347,18 +365,23 @@ void Deformer::normals(const std::vector<Eigen::Vector3f>& positions,
 
 Eigen::SparseMatrix<double> Deformer::linear_map() const {
   std::vector<Eigen::Triplet<double>> entries;
-  for (const VertexRun& run : moving_)
-    for (int i = run.row, v = run.begin; v < run.end; ++i, ++v) {
-      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(weights_, i); it; ++it)
+  for (const VertexRun& run : runs_)
+    for (int v = run.begin; v < run.end; ++v)
+      for (int j = 0; j < run.count; ++j) {
+        const auto k = static_cast<std::size_t>(run.weights + (v - run.begin) * run.count + j);
+        const int channel = run_channels_[static_cast<std::size_t>(run.channels + j)];
         for (int a = 0; a < 3; ++a)
           for (int f = 0; f < kFapCount; ++f) {
-            const double m = channel_faps_(3 * it.col() + a, f);
-            if (m != 0.0) entries.emplace_back(3 * v + a, f, static_cast<double>(it.value()) * m);
+            const double m = channel_faps_(3 * channel + a, f);
+            if (m != 0.0)
+              entries.emplace_back(3 * v + a, f, static_cast<double>(run_weights_[k]) * m);
           }
-      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_, i); it; ++it)
-        entries.emplace_back(3 * v + static_cast<int>(it.col() % 3), static_cast<int>(it.col() / 3),
-                             static_cast<double>(it.value()));
-    }
+      }
+  for (Eigen::Index i = 0; i < direct_.rows(); ++i)
+    for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_, i); it; ++it)
+      entries.emplace_back(
+          3 * direct_vertices_[static_cast<std::size_t>(i)] + static_cast<int>(it.col() % 3),
+          static_cast<int>(it.col() / 3), static_cast<double>(it.value()));
   Eigen::SparseMatrix<double> m(3 * neutral_.cols(), kFapCount);
   m.setFromTriplets(entries.begin(), entries.end());
   return m;

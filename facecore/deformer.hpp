@@ -4,10 +4,10 @@
 // model into sparse matrices; a frame is then one sparse product plus the rotations of the
 // eyeballs (FAPs 23-26, about their pivots) and of the head (FAPs 48-50, about 7.1).
 //
-// A frame places the vertices nothing moves rigidly (their neutral position turned with the
-// head) and sums displacements only for those some region, part or direct term moves (about
-// half of them on the generated heads). Both loops split over threads (OpenMP) on large
-// meshes.
+// A frame walks runs of consecutive vertices weighted on the same feature points: the runs of
+// none are placed rigidly (their neutral position turned with the head, about half of the
+// generated heads), the others sum their weighted displacements. Runs are split over threads
+// (OpenMP) on large meshes.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -58,16 +58,20 @@ class Deformer {
   // Feature-point channels: displacement (3-vector) of point k = channel_faps_[k] x faps.
   std::vector<FeaturePointId> channel_points_;
   Eigen::MatrixXd channel_faps_;  // (3K x 68): x, y, z rows per channel
-  // Vertices [begin, end), whose rows below start at `row` (moving runs only).
+  // Vertices [begin, end) weighted on the same `count` channels (at `channels` in
+  // run_channels_), their weights packed per vertex from `weights` in run_weights_: vertex u's
+  // weights at weights + (u - begin) x count. A run of count 0 is placed rigidly. One channel
+  // list per run keeps the inner loop's length and channels the same from vertex to vertex.
   struct VertexRun {
-    int begin, end, row;
+    int begin, end, count, weights, channels;
   };
-  // The vertices that move (any weight or direct term), in order, and the others.
-  // Displacement of a moving vertex (M x 3) = weights_ (M x K) x channel displacements (K x 3)
-  // + direct_ (M x 204) x FAP values: per-vertex vector terms that are not a weight times a
-  // point's motion (pupil dilation, eyeball thrust, tongue roll), column 3f + axis for FAP f+1.
-  std::vector<VertexRun> moving_, still_;
-  Eigen::SparseMatrix<float, Eigen::RowMajor> weights_;
+  std::vector<VertexRun> runs_;
+  std::vector<float> run_weights_;
+  std::vector<int> run_channels_;
+  // Per-vertex vector terms that are not a weight times a point's motion (pupil dilation,
+  // eyeball thrust, tongue roll): row i of direct_ is vertex direct_vertices_[i], column
+  // 3f + axis for FAP f+1. Added after the loop above, turned with the head.
+  std::vector<int> direct_vertices_;
   Eigen::SparseMatrix<float, Eigen::RowMajor> direct_;
   Eigen::MatrixXf neutral_;  // (3 x V)
 };
