@@ -38,6 +38,16 @@ float border_median(const cv::Mat& patch) {
   return *mid;
 }
 
+// The strongest pixel of the 3x3 box around `at` (`at` itself on a tie).
+cv::Point strongest_around(const cv::Mat& c, cv::Point at) {
+  cv::Point best = at;
+  float best_value = c.at<float>(at.y, at.x);
+  for (int y = std::max(0, at.y - 1); y <= std::min(c.rows - 1, at.y + 1); ++y)
+    for (int x = std::max(0, at.x - 1); x <= std::min(c.cols - 1, at.x + 1); ++x)
+      if (c.at<float>(y, x) > best_value) best_value = c.at<float>(y, x), best = {x, y};
+  return best;
+}
+
 // The blob connected to `peak` where the contrast is at least `threshold`.
 struct Extent {
   cv::Mat region;  // 0/255, the patch's size
@@ -626,6 +636,11 @@ std::optional<cv::Point2d> symmetric_centre(const cv::Mat& c, cv::Point2d start,
 
 std::optional<Dot> measure_peak(const cv::Mat& c, cv::Point peak, float peak_value,
                                 const cv::Rect& window, const DotOptions& options) {
+  // The peak's value is a 3x3 mean of the contrast; the blobs below grow from the strongest
+  // pixel of that box. In sensor noise a faint dot's own pixel at the peak can lie below 0.9
+  // of the mean (the core's level, 2 grey levels under a contrast of 20), which left the dot
+  // with no core at all; some pixel of the box is at least the mean.
+  peak = strongest_around(c, peak);
   // Its extent: the pixels connected to the peak above a share of the peak. Half is the
   // dot's true edge on plain skin. A dot that touches a darker feature (an eyebrow, the
   // iris, a nostril, the shadow under the chin) merges with it at half; those features are
