@@ -9,7 +9,8 @@
 // place, as one piece and chiefly down (opening) or back up, so a shift shared by its dots (one
 // followed dot's, or one candidate's) must put at least two of them (followed or found) each on
 // a dot. A lone dark blob (the open mouth's corner, a gap by the teeth) or a sibling's dot (the
-// triangle then fits nowhere) is not taken.
+// triangle then fits nowhere) is not taken. The tracker hands over only the dots it saw when
+// tracking started: a start place the identification guessed is no shape to match.
 
 #include <cstddef>
 #include <functional>

@@ -85,6 +85,7 @@ struct MarkerTracker::Impl {
   std::vector<MarkerState> states;
   // At the start of tracking: positions (seen or predicted), tag corners, dot looks.
   std::vector<cv::Point2d> reference;
+  std::vector<bool> reference_seen;  // the start position was measured, not predicted
   std::vector<std::array<cv::Point2d, 4>> reference_corners;
   std::vector<double> reference_contrast, reference_diameter;
   std::vector<double> spacing;  // nearest other marker at the start, pixels
@@ -401,6 +402,7 @@ struct MarkerTracker::Impl {
     cv::Matx23d mapping(cv::estimateAffine2D(from, to, cv::noArray(), cv::LMEDS));
     const size_t n = states.size();
     reference.assign(n, {});
+    reference_seen.assign(n, false);
     reference_corners.assign(n, {});
     for (size_t i = 0; i < n; ++i) {
       MarkerState& s = states[i];
@@ -431,6 +433,7 @@ struct MarkerTracker::Impl {
       s.lost_reason = s.valid ? LostReason::None : LostReason::Unidentified;
       if (!s.valid) continue;
       reference[i] = s.position;
+      reference_seen[i] = true;
       reference_corners[i] = s.corners;
       if (s.spec->is_tag()) continue;
       // An eye dot is identified by its centroid alone, beside the slit's corner line
@@ -853,7 +856,8 @@ struct MarkerTracker::Impl {
     predict_lost();
     const bool lower_lip_searched = options.lower_lip.together && reacquire_lower_lip();
     for (size_t i = 0; i < states.size(); ++i)
-      if (!states[i].valid && has_prediction[i] && !(lower_lip_searched && at_lower_lip(i)))
+      if (!states[i].valid && has_prediction[i] &&
+          !(lower_lip_searched && searched_with_lower_lip(i)))
         reacquire(i);
   }
   int frames_since_tag_detection = 0;
@@ -1096,12 +1100,19 @@ struct MarkerTracker::Impl {
   // LowerLipOptions::together: the lower lip's lost dots found again together
   // (find_lower_lip). Returns whether the lower lip was searched so (the single-dot search
   // then skips its dots).
+  // A lower-lip dot not seen when tracking started has a start place that is the
+  // identification's guess: the shape the together search matches is where the dots were
+  // seen, so such a dot is looked for on its own, where its neighbours put it (the photo
+  // scene with a hand: the three lower-lip dots unnamed at the start, found together with the
+  // middle one's name on its neighbour's dot).
+  bool searched_with_lower_lip(size_t i) const { return at_lower_lip(i) && reference_seen[i]; }
+
   bool reacquire_lower_lip() {
     LowerLipScene scene;
     for (size_t i = 0; i < states.size(); ++i) {
       const MarkerState& s = states[i];
       if (s.spec->is_tag()) continue;
-      if (at_lower_lip(i))
+      if (searched_with_lower_lip(i))
         scene.lower_lip.push_back(
             {i, reference[i], spacing[i], s.valid, s.position, !s.valid && has_prediction[i]});
       if (!s.valid) continue;

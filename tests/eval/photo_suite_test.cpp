@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <optional>
 #include <set>
 
 #include "facecore/error.hpp"
@@ -105,6 +106,14 @@ TEST(PhotoSuite, ARunKeepsItsFramesTracksAndTruth) {
   EXPECT_EQ(first.size(), row.truth.front().markers.size());
 }
 
+// The scene of that name in data/eval/photo_scenes.json.
+std::optional<PhotoScenario> default_scenario(const std::string& name) {
+  const PhotoSuiteDefinition d = load_photo_scenes(default_photo_scenes_path());
+  for (const PhotoScenario& s : d.scenarios)
+    if (s.name == name) return s;
+  return std::nullopt;
+}
+
 // The head-turn scene (bald_guys.jpg) starts with its mouth-corner dots painted on the skin
 // beside the lip corners, which dlib's landmarks mark; judged by place alone, identification
 // named the dark lip corners instead and the take followed them.
@@ -112,11 +121,9 @@ TEST(PhotoSuite, HeadTurnsKeepTheMouthCornersOffTheLipCorners) {
   const std::filesystem::path faces = default_faces_dir();
   if (!std::filesystem::is_directory(faces))
     GTEST_SKIP() << faces << " is absent (../shared beside the repository)";
-  const PhotoSuiteDefinition d = load_photo_scenes(default_photo_scenes_path());
-  auto it = std::find_if(d.scenarios.begin(), d.scenarios.end(),
-                         [](const PhotoScenario& s) { return s.name == "turns"; });
-  ASSERT_NE(it, d.scenarios.end());
-  PhotoScenario turns = *it;
+  const std::optional<PhotoScenario> scene = default_scenario("turns");
+  ASSERT_TRUE(scene);
+  PhotoScenario turns = *scene;
   turns.scene.seconds = 1;  // the swap was there from the first frame
   const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
   const PhotoRow row = run_photo_scenario(turns, faces, layout);
@@ -127,6 +134,24 @@ TEST(PhotoSuite, HeadTurnsKeepTheMouthCornersOffTheLipCorners) {
   any_shape.identification.shape_factor = 100;
   const PhotoRow by_place = run_photo_scenario(turns, faces, layout, {}, any_shape);
   EXPECT_GT(by_place.suite.result.swap_observations, 0);
+}
+
+// The hand scene's face (2008_001009.jpg) starts with its three lower-lip dots unnamed (the middle
+// one, in the lip's crease, is not detected). Their start places are then the identification's
+// guesses; found together by the shape of those guesses, the middle name went on its right
+// neighbour's dot on frame 3 and stayed there.
+TEST(PhotoSuite, LowerLipDotsUnseenAtTheStartAreNotNamedOnANeighbour) {
+  const std::filesystem::path faces = default_faces_dir();
+  if (!std::filesystem::is_directory(faces))
+    GTEST_SKIP() << faces << " is absent (../shared beside the repository)";
+  const std::optional<PhotoScenario> scene = default_scenario("hand");
+  ASSERT_TRUE(scene);
+  PhotoScenario hand = *scene;
+  hand.scene.seconds = 1.5;  // the swap was there from frame 3
+  hand.scene.hand = false;   // the same face and talk, without the hand
+  const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
+  const PhotoRow row = run_photo_scenario(hand, faces, layout);
+  EXPECT_EQ(row.suite.result.swap_observations, 0);
 }
 
 TEST(PhotoSuite, UnknownKeyIsAnInputErrorNamingIt) {
