@@ -185,9 +185,9 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
       add(v, kTongueRoll, Vector3d(0, dx * kAngleUnitRad, 0));
     }
   }
-  Eigen::SparseMatrix<float> direct_terms(3 * n_vertices, kFapCount);
+  // (3V x 68, a row per vertex and axis: compacted below to the vertices that have any.)
+  Eigen::SparseMatrix<float, Eigen::RowMajor> direct_terms(3 * n_vertices, kFapCount);
   direct_terms.setFromTriplets(direct.begin(), direct.end());
-  direct_terms.makeCompressed();
 
   neutral_.resize(3, n_vertices);
   for (Eigen::Index v = 0; v < n_vertices; ++v)
@@ -213,12 +213,11 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
                         vertex_weights.valuePtr() + last);
   }
   // The vertices with direct terms, each a row of its own.
-  const Eigen::SparseMatrix<float, Eigen::RowMajor> direct_rows = direct_terms;  // 3V x 68
   std::vector<Eigen::Triplet<float>> compact;
   for (Eigen::Index v = 0; v < n_vertices; ++v) {
     bool any = false;
     for (int a = 0; a < 3; ++a)
-      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_rows, 3 * v + a);
+      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_terms, 3 * v + a);
            it; ++it) {
         compact.emplace_back(static_cast<int>(direct_vertices_.size()),
                              static_cast<int>(3 * it.col() + a), it.value());

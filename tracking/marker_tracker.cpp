@@ -1097,9 +1097,6 @@ struct MarkerTracker::Impl {
     return options.lower_lip.together && at_lower_lip(j) && !at_lower_lip(i);
   }
 
-  // LowerLipOptions::together: the lower lip's lost dots found again together
-  // (find_lower_lip). Returns whether the lower lip was searched so (the single-dot search
-  // then skips its dots).
   // A lower-lip dot not seen when tracking started has a start place that is the
   // identification's guess: the shape the together search matches is where the dots were
   // seen, so such a dot is looked for on its own, where its neighbours put it (the photo
@@ -1107,6 +1104,9 @@ struct MarkerTracker::Impl {
   // middle one's name on its neighbour's dot).
   bool searched_with_lower_lip(size_t i) const { return at_lower_lip(i) && reference_seen[i]; }
 
+  // LowerLipOptions::together: the lower lip's lost dots found again together
+  // (find_lower_lip). Returns whether the lower lip was searched so (the single-dot search
+  // then skips its dots).
   bool reacquire_lower_lip() {
     LowerLipScene scene;
     for (size_t i = 0; i < states.size(); ++i) {
