@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -24,6 +25,9 @@ constexpr int kDilateLeft = 29, kDilateRight = 30;
 constexpr int kTongueRoll = 47;
 constexpr int kHeadPitch = 48, kHeadYaw = 49, kHeadRoll = 50;
 constexpr int kRunMax = 2048;
+constexpr int kHeldMax = 16;
+constexpr int kHeldCount = -1, kGathered = -2;
+std::atomic<std::uint64_t> compiled_deformers{0};
 
 // The FAPs (3..68) that translate a given feature point along their axis.
 std::vector<int> translating_faps(FeaturePointId point) {
@@ -48,28 +52,81 @@ Eigen::Matrix3d rotation(double pitch, double yaw, double roll) {
 // The head's turn p -> r p + t as plain scalars, so that the loops keep them in registers.
 struct Turn {
   float r00, r01, r02, r10, r11, r12, r20, r21, r22, t0, t1, t2;
+
+  Eigen::Matrix3f rotation() const {
+    return (Eigen::Matrix3f() << r00, r01, r02, r10, r11, r12, r20, r21, r22).finished();
+  }
+  Eigen::Matrix<float, 12, 1> values() const {
+    return (Eigen::Matrix<float, 12, 1>() << r00, r01, r02, r10, r11, r12, r20, r21, r22, t0, t1,
+            t2)
+        .finished();
+  }
 };
+
+// The head turns about 7.1 (`pivot`): p -> r p + (pivot - r pivot).
+Turn head_turn(const Eigen::VectorXd& faps, const Vector3d& pivot) {
+  const Eigen::Matrix3f r =
+      rotation(faps[kHeadPitch - 1] * kAngleUnitRad, faps[kHeadYaw - 1] * kAngleUnitRad,
+               faps[kHeadRoll - 1] * kAngleUnitRad)
+          .cast<float>();
+  const Eigen::Vector3f p = pivot.cast<float>();
+  const Eigen::Vector3f shift = p - r * p;
+  return {r(0, 0), r(0, 1), r(0, 2), r(1, 0),  r(1, 1),  r(1, 2),
+          r(2, 0), r(2, 1), r(2, 2), shift[0], shift[1], shift[2]};
+}
+
+// On x86-64 the run loop is compiled twice, for AVX2 and for any x86-64, and the loader picks
+// what the processor has: a frame takes about a third less time with AVX2 (docs/benchmarks.md).
+// Not with FMA: a fused multiply-add rounds differently, so that a frame would depend on the
+// processor (with FMA, one frame of a rendered test clip tracked differently).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define ROSTRO_CLONED_FOR_AVX2 __attribute__((target_clones("avx2", "default")))
+#else
+#define ROSTRO_CLONED_FOR_AVX2
+#endif
 
 // Places the vertices [begin, end) of a run: neutral place plus the weighted displacements of
 // the run's `count` channels (the weights packed per vertex), turned with the head. kCount >= 0
 // fixes the count when compiling, so that the channels' displacements stay in registers and
-// the rigid runs (count 0) vectorise; -1 takes it from `count`.
+// the rigid runs (count 0) vectorise; kHeldCount takes it from `count` (at most kHeldMax),
+// kGathered too but reads each displacement where it is, for each vertex.
 template <int kCount>
-void place_run(int begin, int end, int count, const float* __restrict weights,
-               const int* __restrict channels, const Eigen::Matrix4Xf& displacement,
-               const float* __restrict neutral, const Turn m, float* __restrict o) {
+ROSTRO_CLONED_FOR_AVX2 void place_run(int begin, int end, int count,
+                                      const float* __restrict weights,
+                                      const int* __restrict channels,
+                                      const Eigen::Matrix3Xf& displacement,
+                                      const float* __restrict neutral, const Turn m,
+                                      float* __restrict o) {
   const int n = kCount >= 0 ? kCount : count;
-  constexpr int kHeld = kCount > 0 ? kCount : 1;
-  Eigen::Vector4f held[kHeld];
-  for (int j = 0; j < kCount; ++j) held[j] = displacement.col(channels[j]);
-  for (long v = 3L * begin; v < 3L * end; v += 3, weights += n) {
-    Eigen::Vector4f sum = Eigen::Vector4f::Zero();
-    if constexpr (kCount >= 0) {
-      for (int j = 0; j < kCount; ++j) sum += weights[j] * held[j];
-    } else {
-      for (int j = 0; j < n; ++j) sum += weights[j] * displacement.col(channels[j]);
+  constexpr int kHeld = kCount >= 0 ? std::max(kCount, 1) : kHeldMax;
+  float hx[kHeld], hy[kHeld], hz[kHeld];
+  if constexpr (kCount != kGathered)
+    for (int j = 0; j < n; ++j) {
+      hx[j] = displacement(0, channels[j]);
+      hy[j] = displacement(1, channels[j]);
+      hz[j] = displacement(2, channels[j]);
     }
-    const float x = neutral[v] + sum[0], y = neutral[v + 1] + sum[1], z = neutral[v + 2] + sum[2];
+  const long vertices = end - begin;
+  neutral += 3L * begin;
+  o += 3L * begin;
+  for (long i = 0; i < vertices; ++i) {
+    const long v = 3 * i;
+    const float* w = weights + i * n;
+    float sx = 0, sy = 0, sz = 0;
+    if constexpr (kCount != kGathered) {
+      for (int j = 0; j < n; ++j) {
+        sx += w[j] * hx[j];
+        sy += w[j] * hy[j];
+        sz += w[j] * hz[j];
+      }
+    } else {
+      for (int j = 0; j < n; ++j) {
+        sx += w[j] * displacement(0, channels[j]);
+        sy += w[j] * displacement(1, channels[j]);
+        sz += w[j] * displacement(2, channels[j]);
+      }
+    }
+    const float x = neutral[v] + sx, y = neutral[v + 1] + sy, z = neutral[v + 2] + sz;
     o[v] = m.r00 * x + m.r01 * y + m.r02 * z + m.t0;
     o[v + 1] = m.r10 * x + m.r11 * y + m.r12 * z + m.t1;
     o[v + 2] = m.r20 * x + m.r21 * y + m.r22 * z + m.t2;
@@ -79,7 +136,7 @@ void place_run(int begin, int end, int count, const float* __restrict weights,
 }  // namespace
 
 Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
-    : model_(model), library_(library) {
+    : model_(model), library_(library), id_(++compiled_deformers) {
   const auto n_vertices = static_cast<Eigen::Index>(model.positions.size());
 
   // A channel is one feature point moved by a set of FAPs; most regions use every FAP on
@@ -143,10 +200,11 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
     }
 
   // Direct per-vertex terms: pupil dilation, eyeball thrust, tongue roll.
-  std::vector<Eigen::Triplet<float>> direct;
+  std::vector<std::vector<DirectTerm>> direct(kFapCount + 1);  // by FAP id
   auto add = [&](int v, int fap, const Vector3d& d) {
-    for (int a = 0; a < 3; ++a)
-      if (d[a] != 0.0) direct.emplace_back(3 * v + a, fap - 1, static_cast<float>(d[a]));
+    if (d.isZero()) return;
+    const Eigen::Vector3f term = d.cast<float>();
+    direct[static_cast<std::size_t>(fap)].push_back({v, term.x(), term.y(), term.z()});
   };
   const double irisd = model.fapu.unit_size(FapUnit::IRISD);
   const double es = model.fapu.unit_size(FapUnit::ES);
@@ -185,49 +243,57 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
       add(v, kTongueRoll, Vector3d(0, dx * kAngleUnitRad, 0));
     }
   }
-  // (3V x 68, a row per vertex and axis: compacted below to the vertices that have any.)
-  Eigen::SparseMatrix<float, Eigen::RowMajor> direct_terms(3 * n_vertices, kFapCount);
-  direct_terms.setFromTriplets(direct.begin(), direct.end());
+  for (int fap = 1; fap <= kFapCount; ++fap) {
+    auto& terms = direct[static_cast<std::size_t>(fap)];
+    if (terms.empty()) continue;
+    // One term per vertex (summed), so that the frame can split a FAP's terms over threads.
+    std::stable_sort(terms.begin(), terms.end(),
+                     [](const DirectTerm& a, const DirectTerm& b) { return a.vertex < b.vertex; });
+    const auto begin = static_cast<int>(direct_terms_.size());
+    for (const DirectTerm& term : terms) {
+      if (static_cast<int>(direct_terms_.size()) > begin &&
+          direct_terms_.back().vertex == term.vertex) {
+        direct_terms_.back().x += term.x;
+        direct_terms_.back().y += term.y;
+        direct_terms_.back().z += term.z;
+      } else {
+        direct_terms_.push_back(term);
+      }
+    }
+    direct_faps_.push_back({fap, begin, static_cast<int>(direct_terms_.size())});
+  }
 
   neutral_.resize(3, n_vertices);
   for (Eigen::Index v = 0; v < n_vertices; ++v)
     neutral_.col(v) = model.positions[static_cast<std::size_t>(v)];
 
+  // The vertices moved after the run loop: direct terms and the eyeballs' gaze.
+  std::vector<bool> moved_after(static_cast<std::size_t>(n_vertices), false);
+  for (const DirectTerm& term : direct_terms_)
+    moved_after[static_cast<std::size_t>(term.vertex)] = true;
+  for (const RigidPart* eye : {&model.parts.left_eyeball, &model.parts.right_eyeball})
+    for (int v : eye->vertices) moved_after[static_cast<std::size_t>(v)] = true;
+
   // Runs of consecutive vertices weighted on the same channels (in a region, all of them),
-  // cut at kRunMax vertices so that threads share them evenly.
+  // cut at kRunMax vertices so that threads share them evenly, and where stillness changes.
   const int* channels_of = vertex_weights.innerIndexPtr();
   for (Eigen::Index v = 0; v < n_vertices; ++v) {
     const int first = vertex_weights.outerIndexPtr()[v],
               last = vertex_weights.outerIndexPtr()[v + 1];
     const int u = static_cast<int>(v);
-    if (runs_.empty() || runs_.back().count != last - first ||
+    const bool still = first == last && !moved_after[static_cast<std::size_t>(v)];
+    if (runs_.empty() || runs_.back().count != last - first || runs_.back().still != still ||
         runs_.back().end - runs_.back().begin >= kRunMax ||
         !std::equal(channels_of + first, channels_of + last,
                     run_channels_.begin() + runs_.back().channels)) {
       runs_.push_back({u, u, last - first, static_cast<int>(run_weights_.size()),
-                       static_cast<int>(run_channels_.size())});
+                       static_cast<int>(run_channels_.size()), still});
       run_channels_.insert(run_channels_.end(), channels_of + first, channels_of + last);
     }
     ++runs_.back().end;
     run_weights_.insert(run_weights_.end(), vertex_weights.valuePtr() + first,
                         vertex_weights.valuePtr() + last);
   }
-  // The vertices with direct terms, each a row of its own.
-  std::vector<Eigen::Triplet<float>> compact;
-  for (Eigen::Index v = 0; v < n_vertices; ++v) {
-    bool any = false;
-    for (int a = 0; a < 3; ++a)
-      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_terms, 3 * v + a);
-           it; ++it) {
-        compact.emplace_back(static_cast<int>(direct_vertices_.size()),
-                             static_cast<int>(3 * it.col() + a), it.value());
-        any = true;
-      }
-    if (any) direct_vertices_.push_back(static_cast<int>(v));
-  }
-  direct_.resize(static_cast<Eigen::Index>(direct_vertices_.size()), 3 * kFapCount);
-  direct_.setFromTriplets(compact.begin(), compact.end());
-  direct_.makeCompressed();
 }
 
 void Deformer::set_threads(int threads) {
@@ -241,46 +307,65 @@ int Deformer::threads() const {
   return std::max(1, omp_get_num_procs());
 }
 
-void Deformer::deform(const FapFrame& frame, std::vector<Eigen::Vector3f>& positions) const {
+Eigen::VectorXd Deformer::low_level(const FapFrame& frame) const {
   const bool high_level = frame.has(kVisemeFap) || frame.has(kExpressionFap);
   const FapFrame expanded = (library_ != nullptr && high_level) ? library_->expand(frame) : frame;
   Eigen::VectorXd faps = Eigen::VectorXd::Zero(kFapCount);
   for (int id = 3; id <= kFapCount; ++id) faps[id - 1] = expanded.get(id);
-  deform_low_level(faps, positions);
+  return faps;
 }
 
-void Deformer::deform(const Eigen::VectorXd& faps, std::vector<Eigen::Vector3f>& positions) const {
+Eigen::VectorXd Deformer::low_level(const Eigen::VectorXd& faps) {
   if (faps.size() != kFapCount) throw std::invalid_argument("Deformer::deform needs 68 FAP values");
   Eigen::VectorXd low = faps;
   low[0] = low[1] = 0.0;
-  deform_low_level(low, positions);
+  return low;
 }
 
-void Deformer::deform_low_level(const Eigen::VectorXd& faps,
+void Deformer::deform(const FapFrame& frame, std::vector<Eigen::Vector3f>& positions) const {
+  deform_low_level(low_level(frame), false, positions);
+}
+
+void Deformer::deform(const Eigen::VectorXd& faps, std::vector<Eigen::Vector3f>& positions) const {
+  deform_low_level(low_level(faps), false, positions);
+}
+
+void Deformer::deform(const FapFrame& frame, DeformedMesh& mesh) const {
+  deform_low_level(low_level(frame), mesh);
+}
+
+void Deformer::deform(const Eigen::VectorXd& faps, DeformedMesh& mesh) const {
+  deform_low_level(low_level(faps), mesh);
+}
+
+void Deformer::deform_low_level(const Eigen::VectorXd& faps, DeformedMesh& mesh) const {
+  const Turn turn = head_turn(faps, model_.head_pivot);
+  const bool same_turn = mesh.deformer_ == id_ &&
+                         mesh.positions_.size() == static_cast<std::size_t>(neutral_.cols()) &&
+                         mesh.turn_ == turn.values();
+  mesh.deformer_ = 0;  // (if deforming throws, nothing is known of what the mesh holds)
+  deform_low_level(faps, same_turn, mesh.positions_);
+  mesh.deformer_ = id_;
+  mesh.turn_ = turn.values();
+}
+
+void Deformer::deform_low_level(const Eigen::VectorXd& faps, bool keep_still,
                                 std::vector<Eigen::Vector3f>& out) const {
   const auto n = static_cast<long>(neutral_.cols());
   out.resize(static_cast<std::size_t>(n));
-  // The head turns about 7.1: p -> r p + (pivot - r pivot).
-  const double head_pitch = faps[kHeadPitch - 1] * kAngleUnitRad,
-               head_yaw = faps[kHeadYaw - 1] * kAngleUnitRad,
-               head_roll = faps[kHeadRoll - 1] * kAngleUnitRad;
-  const Eigen::Matrix3f r = rotation(head_pitch, head_yaw, head_roll).cast<float>();
+  const Turn turn = head_turn(faps, model_.head_pivot);
+  const Eigen::Matrix3f r = turn.rotation();
   const Eigen::Vector3f pivot = model_.head_pivot.cast<float>();
-  const Eigen::Vector3f shift = pivot - r * pivot;
-  const Turn turn{r(0, 0), r(0, 1), r(0, 2), r(1, 0),  r(1, 1),  r(1, 2),
-                  r(2, 0), r(2, 1), r(2, 2), shift[0], shift[1], shift[2]};
 
-  // Displacement of every channel's feature point, padded to four floats so that one weight
-  // is one vector multiply-add.
+  // Displacement of every channel's feature point (a column each).
   const Eigen::VectorXd displacement = channel_faps_ * faps;
-  Eigen::Matrix4Xf channels = Eigen::Matrix4Xf::Zero(4, displacement.size() / 3);
-  for (Eigen::Index k = 0; k < channels.cols(); ++k)
-    channels.col(k).head<3>() = displacement.segment<3>(3 * k).cast<float>();
+  const Eigen::Matrix3Xf channels =
+      Eigen::Map<const Eigen::Matrix3Xd>(displacement.data(), 3, displacement.size() / 3)
+          .cast<float>();
   const Eigen::VectorXf fap_values = faps.cast<float>();
   const float* neutral = neutral_.data();
   float* o = out.data()->data();
   const auto n_runs = static_cast<long>(runs_.size());
-  const auto n_direct = static_cast<long>(direct_vertices_.size());
   const int n_threads = threads();
   static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "out is read as packed floats");
 
@@ -289,6 +374,7 @@ void Deformer::deform_low_level(const Eigen::VectorXd& faps,
 #pragma omp for schedule(dynamic, 4)
     for (long i = 0; i < n_runs; ++i) {
       const VertexRun& run = runs_[static_cast<std::size_t>(i)];
+      if (keep_still && run.still) continue;
       const float* w = run_weights_.data() + run.weights;
       const int* c = run_channels_.data() + run.channels;
       switch (run.count) {
@@ -305,16 +391,23 @@ void Deformer::deform_low_level(const Eigen::VectorXd& faps,
           place_run<3>(run.begin, run.end, 3, w, c, channels, neutral, turn, o);
           break;
         default:
-          place_run<-1>(run.begin, run.end, run.count, w, c, channels, neutral, turn, o);
+          if (run.count <= kHeldMax)
+            place_run<kHeldCount>(run.begin, run.end, run.count, w, c, channels, neutral, turn, o);
+          else
+            place_run<kGathered>(run.begin, run.end, run.count, w, c, channels, neutral, turn, o);
       }
     }
     // The direct terms, turned with the head (after the loop above has placed the vertex).
+    for (const DirectFap& fap : direct_faps_) {
+      const float value = fap_values[fap.fap - 1];
+      if (value == 0.0f) continue;
+      const Eigen::Matrix3f turned = value * r;
 #pragma omp for schedule(static)
-    for (long i = 0; i < n_direct; ++i) {
-      Eigen::Vector3f d = Eigen::Vector3f::Zero();
-      for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_, i); it; ++it)
-        d[it.col() % 3] += it.value() * fap_values[it.col() / 3];
-      out[static_cast<std::size_t>(direct_vertices_[static_cast<std::size_t>(i)])] += r * d;
+      for (int i = fap.begin; i < fap.end; ++i) {
+        const DirectTerm& term = direct_terms_[static_cast<std::size_t>(i)];
+        out[static_cast<std::size_t>(term.vertex)] +=
+            turned * Eigen::Vector3f(term.x, term.y, term.z);
+      }
     }
   }
 
@@ -376,11 +469,14 @@ Eigen::SparseMatrix<double> Deformer::linear_map() const {
               entries.emplace_back(3 * v + a, f, static_cast<double>(run_weights_[k]) * m);
           }
       }
-  for (Eigen::Index i = 0; i < direct_.rows(); ++i)
-    for (Eigen::SparseMatrix<float, Eigen::RowMajor>::InnerIterator it(direct_, i); it; ++it)
-      entries.emplace_back(
-          3 * direct_vertices_[static_cast<std::size_t>(i)] + static_cast<int>(it.col() % 3),
-          static_cast<int>(it.col() / 3), static_cast<double>(it.value()));
+  for (const DirectFap& fap : direct_faps_)
+    for (int i = fap.begin; i < fap.end; ++i) {
+      const DirectTerm& term = direct_terms_[static_cast<std::size_t>(i)];
+      const float d[3] = {term.x, term.y, term.z};
+      for (int a = 0; a < 3; ++a)
+        if (d[a] != 0.0f)
+          entries.emplace_back(3 * term.vertex + a, fap.fap - 1, static_cast<double>(d[a]));
+    }
   Eigen::SparseMatrix<double> m(3 * neutral_.cols(), kFapCount);
   m.setFromTriplets(entries.begin(), entries.end());
   return m;

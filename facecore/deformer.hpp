@@ -1,16 +1,18 @@
 #pragma once
 // Deforms a face model by a frame of FAPs. Everything linear in the FAP values (regions,
 // jaw-following parts, pupil dilation, eyeball thrust, tongue roll) is compiled once per
-// model into sparse matrices; a frame is then one sparse product plus the rotations of the
-// eyeballs (FAPs 23-26, about their pivots) and of the head (FAPs 48-50, about 7.1).
+// model; a frame is then a weighted sum per vertex plus the rotations of the eyeballs (FAPs
+// 23-26, about their pivots) and of the head (FAPs 48-50, about 7.1).
 //
 // A frame walks runs of consecutive vertices weighted on the same feature points: the runs of
 // none are placed rigidly (their neutral position turned with the head, about half of the
 // generated heads), the others sum their weighted displacements. Runs are split over threads
-// (OpenMP) on large meshes.
+// (OpenMP) on large meshes. Deformed into a DeformedMesh, frame after frame, the rigid runs are
+// left as they are while the head does not turn.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <cstdint>
 #include <vector>
 
 #include "facecore/face_model.hpp"
@@ -18,7 +20,22 @@
 
 namespace rostro {
 
+class Deformer;
 class ExpressionLibrary;
+
+// Positions kept from frame to frame by one Deformer: it remembers the head turn they hold, so
+// that a frame whose turn is the same skips the vertices nothing else moves. The positions are
+// read-only outside the Deformer for that reason.
+class DeformedMesh {
+ public:
+  const std::vector<Eigen::Vector3f>& positions() const { return positions_; }
+
+ private:
+  friend class Deformer;
+  std::vector<Eigen::Vector3f> positions_;
+  std::uint64_t deformer_ = 0;        // Deformer::id_ of the one that placed positions_, or 0
+  Eigen::Matrix<float, 12, 1> turn_;  // ... with this head turn (rotation, shift)
+};
 
 class Deformer {
  public:
@@ -38,6 +55,10 @@ class Deformer {
   void deform(const FapFrame& frame, std::vector<Eigen::Vector3f>& positions) const;
   // The same from a plain vector of the 68 low-level values (index id - 1; 1 and 2 ignored).
   void deform(const Eigen::VectorXd& faps, std::vector<Eigen::Vector3f>& positions) const;
+  // The same into a mesh kept from the previous frame: the same positions, but the vertices
+  // only the head's turn moves are not placed again when the turn has not changed.
+  void deform(const FapFrame& frame, DeformedMesh& mesh) const;
+  void deform(const Eigen::VectorXd& faps, DeformedMesh& mesh) const;
 
   // Area-weighted vertex normals of a (deformed) mesh of this model.
   void normals(const std::vector<Eigen::Vector3f>& positions,
@@ -50,10 +71,16 @@ class Deformer {
   const FaceModel& model() const { return model_; }
 
  private:
-  void deform_low_level(const Eigen::VectorXd& faps, std::vector<Eigen::Vector3f>& out) const;
+  Eigen::VectorXd low_level(const FapFrame& frame) const;
+  static Eigen::VectorXd low_level(const Eigen::VectorXd& faps);
+  // Places every vertex, or all but the still runs when `keep_still` (they hold this turn).
+  void deform_low_level(const Eigen::VectorXd& faps, bool keep_still,
+                        std::vector<Eigen::Vector3f>& out) const;
+  void deform_low_level(const Eigen::VectorXd& faps, DeformedMesh& mesh) const;
 
   const FaceModel& model_;
   const ExpressionLibrary* library_;
+  std::uint64_t id_;  // unique to this model's compilation (a copy shares it: same result)
   int threads_ = 0;
   // Feature-point channels: displacement (3-vector) of point k = channel_faps_[k] x faps.
   std::vector<FeaturePointId> channel_points_;
@@ -62,17 +89,27 @@ class Deformer {
   // run_channels_), their weights packed per vertex from `weights` in run_weights_: vertex u's
   // weights at weights + (u - begin) x count. A run of count 0 is placed rigidly. One channel
   // list per run keeps the inner loop's length and channels the same from vertex to vertex.
+  // A still run is rigid and holds none of the vertices moved after the loop (direct terms,
+  // eyeballs): only the head's turn moves it.
   struct VertexRun {
     int begin, end, count, weights, channels;
+    bool still;
   };
   std::vector<VertexRun> runs_;
   std::vector<float> run_weights_;
   std::vector<int> run_channels_;
   // Per-vertex vector terms that are not a weight times a point's motion (pupil dilation,
-  // eyeball thrust, tongue roll): row i of direct_ is vertex direct_vertices_[i], column
-  // 3f + axis for FAP f+1. Added after the loop above, turned with the head.
-  std::vector<int> direct_vertices_;
-  Eigen::SparseMatrix<float, Eigen::RowMajor> direct_;
+  // eyeball thrust, tongue roll): vertex += value of `fap` x (x, y, z), added after the loop
+  // above and turned with the head. The terms of one FAP are direct_terms_[begin, end).
+  struct DirectTerm {
+    int vertex;
+    float x, y, z;
+  };
+  struct DirectFap {
+    int fap, begin, end;
+  };
+  std::vector<DirectTerm> direct_terms_;
+  std::vector<DirectFap> direct_faps_;
   Eigen::MatrixXf neutral_;  // (3 x V)
 };
 

@@ -372,7 +372,7 @@ void Pipeline::Impl::render_loop(LiveView* view) {
     if (view) throw;
     log(std::string("no head rendering: ") + e.what());
   }
-  std::vector<Eigen::Vector3f> positions;
+  DeformedMesh mesh;
   std::vector<float> flat;
   cv::Mat head(o.view_height, o.view_height, CV_8UC3, cv::Scalar(40, 40, 40));
   std::vector<std::string> lines;
@@ -386,9 +386,9 @@ void Pipeline::Impl::render_loop(LiveView* view) {
     if (!s) continue;
     if (face) {
       const auto t0 = Clock::now();
-      face->deformer().deform(s->faps, positions);
+      face->deformer().deform(s->faps, mesh);
       const auto t1 = Clock::now();
-      render::flatten(positions, flat);
+      render::flatten(mesh.positions(), flat);
       face->renderer().update_positions(flat);
       face->renderer().render_into(render::CameraPose::front(), face->framing(), head);
       const auto t2 = Clock::now();

@@ -64,8 +64,8 @@ cv::Mat FaceRenderer::render(const FapFrame& frame, const CameraPose& pose) {
 }
 
 void FaceRenderer::render_into(const FapFrame& frame, const CameraPose& pose, cv::Mat& bgr) {
-  deformer_.deform(frame, positions_);
-  flatten(positions_, flat_);
+  deformer_.deform(frame, mesh_);
+  flatten(mesh_.positions(), flat_);
   renderer_.update_positions(flat_);
   renderer_.render_into(pose, framing_, bgr);
 }

@@ -46,7 +46,7 @@ class FaceRenderer {
   const Bounds& framing() const { return framing_; }
   void set_framing(const Bounds& frame) { framing_ = frame; }
   // The vertex positions of the last rendered frame (for ground truth in synth).
-  const std::vector<Eigen::Vector3f>& positions() const { return positions_; }
+  const std::vector<Eigen::Vector3f>& positions() const { return mesh_.positions(); }
   OffscreenRenderer& renderer() { return renderer_; }
   const Deformer& deformer() const { return deformer_; }
 
@@ -54,7 +54,7 @@ class FaceRenderer {
   Deformer deformer_;
   OffscreenRenderer renderer_;
   Bounds framing_;
-  std::vector<Eigen::Vector3f> positions_;
+  DeformedMesh mesh_;
   std::vector<float> flat_;
 };
 

@@ -31,8 +31,8 @@ WindowPlayerView::WindowPlayerView(WindowRenderer& window, const Deformer& defor
       title_(std::move(title)) {}
 
 void WindowPlayerView::show(long frame, double clock_s) {
-  deformer_.deform(stream_.frames[static_cast<std::size_t>(frame)], positions_);
-  flatten(positions_, flat_);
+  deformer_.deform(stream_.frames[static_cast<std::size_t>(frame)], mesh_);
+  flatten(mesh_.positions(), flat_);
   window_.update_positions(flat_);
   window_.draw(pose_, framing_);
   shown_ = frame;

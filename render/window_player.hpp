@@ -34,7 +34,7 @@ class WindowPlayerView : public PlayerView {
   std::string title_;
   bool paused_ = false;
   long shown_ = -1;
-  std::vector<Eigen::Vector3f> positions_;
+  DeformedMesh mesh_;
   std::vector<float> flat_;
   void update_title(double clock_s);
 };

@@ -175,6 +175,38 @@ TEST(Deformer, ThreadsGiveTheSameMesh) {
   EXPECT_THROW(deformer.set_threads(-1), std::invalid_argument);
 }
 
+TEST(Deformer, AMeshKeptFromFrameToFrameIsTheSameAsAFreshOne) {
+  // Frames whose head turn stays, changes and comes back, with every other FAP (gaze, thrust,
+  // pupils, tongue among them) changing every frame: the kept mesh skips the vertices only the
+  // turn moves when it can, and must hold exactly what deforming from nothing gives.
+  DeformedMesh kept;
+  const double turns[] = {0, 0, 0, 40000, 40000, 0, 0, -25000, -25000, -25000};
+  for (int k = 0; k < 10; ++k) {
+    FapFrame frame;
+    for (int id = 3; id <= kFapCount; ++id) frame.set(id, 50.0 + (id * 37 + k * 53) % 150);
+    for (int id : {48, 49, 50}) frame.set(id, turns[k] * (id - 47) / 3.0);
+    std::vector<Eigen::Vector3f> fresh;
+    deformer().deform(frame, fresh);
+    deformer().deform(frame, kept);
+    ASSERT_EQ(kept.positions().size(), fresh.size());
+    for (std::size_t v = 0; v < fresh.size(); ++v)
+      ASSERT_EQ(kept.positions()[v], fresh[v]) << "frame " << k << ", vertex " << v;
+  }
+  // A mesh last placed by another deformer is placed whole, even with the same head turn.
+  FaceModel moved = head();
+  for (Eigen::Vector3f& p : moved.positions) p.x() += 1.0f;
+  const Deformer other(moved);
+  FapFrame turned;
+  turned.set(49, -25000.0 * 2 / 3.0);
+  turned.set(48, -25000.0 / 3.0);
+  turned.set(50, -25000.0);
+  std::vector<Eigen::Vector3f> fresh;
+  other.deform(turned, fresh);
+  other.deform(turned, kept);
+  for (std::size_t v = 0; v < fresh.size(); ++v)
+    ASSERT_EQ(kept.positions()[v], fresh[v]) << "vertex " << v;
+}
+
 TEST(Deformer, TongueRollRaisesTheTongueBorders) {
   const double value = 10000;
   const auto moved = deform_one(47, value);
@@ -320,6 +352,35 @@ TEST(Deformer, LinearMapMatchesDeform) {
     for (int a = 0; a < 3; ++a)
       ASSERT_NEAR(out[v][a] - head().positions[v][a], d[static_cast<Eigen::Index>(3 * v) + a],
                   1e-3);
+}
+
+TEST(Deformer, VerticesOnManyFeaturePointsMoveAsTheLinearMapSays) {
+  // A region driven by every lip and chin point (more than a run holds in registers): each of
+  // its vertices moves by the mean motion of all of them.
+  FaceModel model = head();
+  InfluenceRegion region;
+  region.name = "lips and chin";
+  region.kind = InfluenceKind::Rigid;
+  for (const auto& [point, vertex] : model.feature_points)
+    if (point.group == 2 || point.group == 8) region.feature_points.push_back(point);
+  ASSERT_GT(region.feature_points.size(), 16u);
+  region.gain = 1.0 / static_cast<double>(region.feature_points.size());
+  const float nose_y =
+      model.positions[static_cast<std::size_t>(model.feature_points.at({9, 3}))].y();
+  for (std::size_t v = 0; v < model.positions.size(); ++v)
+    if (model.positions[v].y() < nose_y) region.vertices.push_back(static_cast<int>(v));
+  model.regions.push_back(region);
+  const Deformer deformer(model);
+  Eigen::VectorXd faps = Eigen::VectorXd::Zero(kFapCount);
+  for (int id : {3, 4, 5, 12, 13, 16, 17, 53, 54}) faps[id - 1] = 120.0 + 10 * id;
+  std::vector<Eigen::Vector3f> out;
+  deformer.deform(faps, out);
+  const Eigen::VectorXd d = deformer.linear_map() * faps;
+  for (std::size_t v = 0; v < out.size(); ++v)
+    for (int a = 0; a < 3; ++a) {
+      const double expected = d[static_cast<Eigen::Index>(3 * v) + a];
+      ASSERT_NEAR(out[v][a] - model.positions[v][a], expected, 1e-3) << "vertex " << v;
+    }
 }
 
 TEST(Deformer, NormalsAreUnitAndPointOutOfTheFace) {
