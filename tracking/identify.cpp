@@ -110,6 +110,7 @@ void IdentificationOptions::validate() const {
   OptionCheck("IdentificationOptions")
       .positive("gate", gate)
       .at_least("size_factor", size_factor, 1)
+      .not_negative("ink_weight", ink_weight)
       .at_least("shape_factor", shape_factor, 1)
       .within("alone_share", alone_share, 0, 1)
       .within("min_explained", min_explained, 0, 1)
@@ -431,14 +432,27 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       return base[i] + offset * (1 / weight);
     };
     std::vector<cv::Point2d> predicted = base;
+    // How much fainter than the named dots each detection is (IdentificationOptions::ink_weight).
+    std::vector<double> faintness(k_count, 0.0);
+    {
+      std::vector<double> contrasts;
+      for (int k : best.match)
+        if (k >= 0) contrasts.push_back(dots[static_cast<size_t>(k)].contrast);
+      const double typical = quantile(contrasts, 0.5, 0);
+      for (size_t k = 0; k < k_count; ++k)
+        if (typical > 0 && dots[k].contrast > 0 && dots[k].contrast < typical)
+          faintness[k] = std::pow(std::log(typical / dots[k].contrast), 2);
+    }
     for (int round = 0; round < kNameRounds; ++round) {
       const double reach = round == 0 ? kFirstNameLimit : kNameLimit;
       for (size_t i = 0; i < n; ++i) limit[i] = reach * spacing[i] * scale;
       std::vector<std::vector<double>> cost(n, std::vector<double>(k_count + n, kNoPair));
       for (size_t i = 0; i < n; ++i) {
+        const double unit = spacing[i] * scale;
         for (size_t k = 0; k < k_count; ++k) {
           const double d = cv::norm(dots[k].center - predicted[i]);
-          if (d < limit[i] && usable[k]) cost[i][k] = d * d;
+          if (d < limit[i] && usable[k])
+            cost[i][k] = d * d + options.ink_weight * unit * unit * faintness[k];
         }
         cost[i][k_count + i] = limit[i] * limit[i];  // left unnamed
       }

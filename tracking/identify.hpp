@@ -41,6 +41,13 @@ struct IdentificationOptions {
   // stands alone: it is measured low.
   double shape_factor = 1.5;
   double alone_share = 0.6;
+  // And one ink: in the final naming a detection fainter than the named detections' median
+  // contrast costs as much more as if it lay farther, ink_weight x (its spacing x ln(median /
+  // its contrast))^2 farther squared, so that of two detections near a dot's place the one
+  // as dark as the other dots takes the name (the dot above the eye, not the shadow in it);
+  // a faint dot alone near its place (in a corner's shadow, on skin turning away) is still
+  // named. 0: position alone.
+  double ink_weight = 0.15;
   // A confident identification meets all of these.
   double min_explained = 0.8;  // share of the layout's dots given a detection
   double max_residual = 0.3;   // IdentificationConfidence::residual

@@ -1308,6 +1308,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, identification.size_factor),
       ROSTRO_NAMED_OPTION(O, identification.shape_factor),
       ROSTRO_NAMED_OPTION(O, identification.alone_share),
+      ROSTRO_NAMED_OPTION(O, identification.ink_weight),
       ROSTRO_NAMED_OPTION(O, identification.min_explained),
       ROSTRO_NAMED_OPTION(O, identification.max_residual),
       ROSTRO_NAMED_OPTION(O, identification.min_margin),

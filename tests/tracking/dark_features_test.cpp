@@ -2,7 +2,7 @@
 // disc in the darker iris) is not taken for a dot, a lost lid dot is found beside it, a pair
 // of dots both shifted from the layout's places (the chin under a nod) keep their names, and a
 // long dark blob where the layout puts a dot (the lip corner beside a mouth-corner dot worn
-// on the skin) is not named in its place.
+// on the skin) is not named in its place, nor a faint one nearer a dot's place than the dot.
 
 #include <gtest/gtest.h>
 
@@ -156,6 +156,44 @@ TEST(Identify, ADotForeshortenedOnSkinThatTurnsAwayIsStillNamed) {
   IdentificationOptions shape_alone;
   shape_alone.alone_share = 0;
   EXPECT_FALSE(identify_markers(layout, dots, {}, shape_alone).dots.count("chin"));
+}
+
+TEST(Identify, AFaintBlobNearerADotsPlaceThanTheDotDoesNotTakeItsName) {
+  const MarkerLayout layout =
+      load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
+  const MarkerSpec* lid = layout.find("lid_r_up");
+  ASSERT_TRUE(lid);
+  double spacing = 1e9;
+  for (const MarkerSpec& m : layout.markers)
+    if (!m.is_tag() && &m != lid)
+      spacing = std::min(spacing, cv::norm(m.frontal() - lid->frontal()));
+  // The upper-lid dot worn 0.4 of its spacing above the layout's place, and a shadow in the
+  // eye a third as dark, of the same size and shape, 0.25 below it (the photo scene at
+  // 640x480: the dot 6.4 px from its predicted place, the shadow 4.6).
+  std::map<std::string, cv::Point2d> truth;
+  std::vector<Dot> dots =
+      layout_dots(layout, {{"lid_r_up", cv::Point2d(0, -0.4 * spacing * 3)}}, truth);
+  const cv::Point2d place = cv::Point2d(320, 240) + 3 * lid->frontal();
+  const Dot shadow{place + cv::Point2d(0, 0.25 * spacing * 3), 8, 33, 0};
+  dots.push_back(shadow);
+  const Identification id = identify_markers(layout, dots, {});
+  ASSERT_TRUE(id.dots.count("lid_r_up"));
+  EXPECT_LT(cv::norm(id.dots.at("lid_r_up").center - truth.at("lid_r_up")), 1e-9);
+  // Judged by place alone, the shadow takes the name.
+  IdentificationOptions by_place;
+  by_place.ink_weight = 0;
+  const Identification placed = identify_markers(layout, dots, {}, by_place);
+  ASSERT_TRUE(placed.dots.count("lid_r_up"));
+  EXPECT_LT(cv::norm(placed.dots.at("lid_r_up").center - shadow.center), 1e-9);
+  // A dot as faint alone near its place (in a corner's shadow) is still named.
+  for (Dot& d : dots)
+    if (cv::norm(d.center - truth.at("lid_r_up")) < 1e-9) d.center = shadow.center;
+  dots.pop_back();
+  for (Dot& d : dots)
+    if (cv::norm(d.center - shadow.center) < 1e-9) d.contrast = 33;
+  const Identification alone = identify_markers(layout, dots, {});
+  ASSERT_TRUE(alone.dots.count("lid_r_up"));
+  EXPECT_LT(cv::norm(alone.dots.at("lid_r_up").center - shadow.center), 1e-9);
 }
 
 }  // namespace
