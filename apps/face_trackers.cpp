@@ -23,6 +23,10 @@ void FaceTrackerArgs::add_options(CLI::App* cmd, bool required) {
   cmd->add_option("--face", landmarks.face_rank,
                   "With --markerless and several faces in view: 1 the largest, 2 the next, ...")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--tracker-option", tracker_options,
+                  "Set a marker tracker option, NAME=VALUE (repeatable; the names are "
+                  "TrackerOptions' fields, e.g. identification.shape_factor=100 turns the shape "
+                  "test off)");
 }
 
 namespace {
@@ -32,19 +36,27 @@ void check_choice(const FaceTrackerArgs& a) {
     throw CLI::ValidationError("--layout", "a marker layout and --markerless exclude each other");
   if (!a.markerless && a.layout.empty() && a.layout_required)
     throw CLI::ValidationError("--layout", "give a marker layout (--layout FILE) or --markerless");
+  if (a.markerless && !a.tracker_options.empty())
+    throw CLI::ValidationError("--tracker-option",
+                               "sets a marker tracker option, not one of --markerless");
 }
 
 }  // namespace
 
+tracking::TrackerOptions FaceTrackerArgs::marker_options(tracking::TrackerOptions base) const {
+  for (const std::string& a : tracker_options) tracking::set_tracker_option(base, a);
+  return base;
+}
+
 std::unique_ptr<tracking::FaceTracker> FaceTrackerArgs::make(
-    const tracking::TrackerOptions& marker_options) const {
+    const tracking::TrackerOptions& base) const {
   check_choice(*this);
   // The default head's feature points place the landmarks for calibration, as they place
   // markers on feature points.
   if (markerless)
     return std::make_unique<tracking::LandmarkTracker>(tracking::default_ibug_mapping(),
                                                        calib::load_actor_prior().points, landmarks);
-  return std::make_unique<tracking::MarkerTracker>(make_layout(), marker_options);
+  return std::make_unique<tracking::MarkerTracker>(make_layout(), marker_options(base));
 }
 
 std::string identification_report(const tracking::FaceTracker& tracker, double fps) {

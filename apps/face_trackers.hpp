@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "tracking/face_tracker.hpp"
 #include "tracking/landmark_tracker.hpp"
@@ -18,15 +19,19 @@ struct FaceTrackerArgs {
   bool layout_required = true;  // without --markerless, --layout must be given
   bool markerless = false;
   tracking::LandmarkTrackerOptions landmarks;
+  std::vector<std::string> tracker_options;  // --tracker-option NAME=VALUE, markers only
 
   // --layout (required unless --markerless when `required`), --markerless, --landmark-model,
-  // --face.
+  // --face, --tracker-option.
   void add_options(CLI::App* cmd, bool required);
-  // A MarkerTracker on the layout, or a LandmarkTracker. Throws CLI::ValidationError when
-  // a required --layout is missing or given with --markerless, InputError for a bad layout or
-  // landmark model.
-  std::unique_ptr<tracking::FaceTracker> make(
-      const tracking::TrackerOptions& marker_options = {}) const;
+  // `base` with every --tracker-option set on it. Throws InputError naming an unknown field or
+  // a bad value.
+  tracking::TrackerOptions marker_options(tracking::TrackerOptions base = {}) const;
+  // A MarkerTracker on the layout (with marker_options(base)), or a LandmarkTracker. Throws
+  // CLI::ValidationError when a required --layout is missing or given with --markerless, or
+  // --tracker-option is given with --markerless, InputError for a bad layout, landmark model
+  // or tracker option.
+  std::unique_ptr<tracking::FaceTracker> make(const tracking::TrackerOptions& base = {}) const;
   // The layout make()'s tracker would have, without loading a landmark model: for tracks
   // that come from a CSV.
   tracking::MarkerLayout make_layout() const;

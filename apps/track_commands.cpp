@@ -52,7 +52,8 @@ std::unique_ptr<tracking::FaceTracker> make_tracker(const TrackArgs& args) {
                                                      : std::filesystem::path(args.face.layout));
   if (args.polarity == "dark") layout.polarity = tracking::DotPolarity::Dark;
   if (args.polarity == "bright") layout.polarity = tracking::DotPolarity::Bright;
-  auto tracker = std::make_unique<tracking::MarkerTracker>(layout, args.options);
+  auto tracker =
+      std::make_unique<tracking::MarkerTracker>(layout, args.face.marker_options(args.options));
   if (!args.start.empty())
     tracker->set_start_positions(tracking::read_start_positions(args.start, tracker->layout()));
   return tracker;

@@ -153,6 +153,32 @@ TEST(Cli, TrackRefusesATakeNeverIdentifiedWithConfidence) {
   EXPECT_FALSE(std::filesystem::exists(prefix + ".tracks.csv"));
 }
 
+// A tracker option set on the command line reaches the tracker: a residual no naming can
+// meet leaves the sample take never identified; an unknown name or a bad value is one line
+// naming it; a bare face's tracker has no such options.
+TEST(Cli, TrackerOptionsReachTheMarkerTracker) {
+  const auto dir = scratch("tracker-option");
+  const std::string take = std::string(ROSTRO_DATA_DIR) + "/samples/take.mp4";
+  const std::string out = (dir / "take.tracks.csv").string();
+  const std::string track = "track " + take + " --max-frames 5 -o " + out;
+  ASSERT_EQ(rostro(track).exit_code, 0);
+  std::filesystem::remove(out);
+  const CliRun strict = rostro(track + " --tracker-option identification.max_residual=1e-9");
+  EXPECT_EQ(strict.exit_code, 1) << strict.output;
+  EXPECT_NE(strict.output.find("never identified with confidence"), std::string::npos)
+      << strict.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  for (const auto& [bad, named] : {std::pair{"identification.no_such_field=1", "no_such_field"},
+                                   std::pair{"identification.gate=-1", "gate = -1"}}) {
+    const CliRun run = rostro(track + " --tracker-option " + bad);
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+    EXPECT_NE(run.output.find(named), std::string::npos) << run.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  EXPECT_EQ(rostro(track + " --markerless --tracker-option identification.gate=0.5").exit_code, 2);
+}
+
 }  // namespace
 
 namespace {
