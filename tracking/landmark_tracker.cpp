@@ -90,6 +90,9 @@ void LandmarkTrackerOptions::validate() const {
   if (!(min_flow_agreement >= 0 && min_flow_agreement <= 1))
     throw InputError("landmark tracker: the flow agreement is a share in [0, 1], not " +
                      std::to_string(min_flow_agreement));
+  if (!(look_window >= 1 && look_window <= 4))
+    throw InputError("landmark tracker: the detector's window is 1 to 4 times the face, not " +
+                     std::to_string(look_window));
   if (!std::isfinite(follow_threshold))
     throw InputError("landmark tracker: the detector threshold must be finite");
   stabiliser.validate();
@@ -146,13 +149,14 @@ struct LandmarkTracker::Impl {
     return faces[static_cast<std::size_t>(options.face_rank - 1)];
   }
 
-  // Step 2: the followed face again, near where it was and about its size, in a window twice
-  // its size.
+  // Step 2: the followed face again, near where it was and about its size, in a window
+  // look_window times its size around it.
   std::optional<FaceDetection> find_again(const cv::Rect2d& last) {
+    const double k = options.look_window;
     const cv::Rect window =
-        cv::Rect(cv::Point(static_cast<int>(last.x - last.width / 2),
-                           static_cast<int>(last.y - last.height / 2)),
-                 cv::Size(static_cast<int>(last.width * 2), static_cast<int>(last.height * 2))) &
+        cv::Rect(cv::Point(static_cast<int>(last.x - last.width * (k - 1) / 2),
+                           static_cast<int>(last.y - last.height * (k - 1) / 2)),
+                 cv::Size(static_cast<int>(last.width * k), static_cast<int>(last.height * k))) &
         cv::Rect(0, 0, gray.cols, gray.rows);
     if (window.width < 8 || window.height < 8) return std::nullopt;
     std::optional<FaceDetection> best;

@@ -10,9 +10,9 @@
 //  2. check it is still there: while a face is followed, optical flow carries its last
 //     landmarks into the frame, and the share of them that move as one face (a similarity)
 //     is the check on every frame; every check_every frames, and on any frame where too few
-//     move as one, the detector looks again in a window twice the face's size around it, at
-//     its scale. No face there ends the following and the whole image is searched on the same
-//     frame. A frame so costs the flow and one shape fit, not an image search;
+//     move as one, the detector looks again in a window around it (look_window times the
+//     face's size), at its scale. No face there ends the following and the whole image is searched
+//     on the same frame. A frame so costs the flow and one shape fit, not an image search;
 //  3. place the box: it follows the last frame's landmarks (in the relation the detector's box
 //     had to them when the face was found) once they have moved it by a twentieth of the face
 //     (box_deadband), so a still face keeps one box; and it is the detector's box whenever
@@ -49,6 +49,11 @@ struct LandmarkTrackerOptions {
   // face covered, turned away or gone).
   int check_every = 10;
   double min_flow_agreement = 0.6;
+  // The window the detector looks again in, as a multiple of the face's box around it. The box
+  // follows the landmarks every frame, so the face is found near it; the detector's cost
+  // grows with the window's area, and it is the costliest step of the frames it runs on
+  // (docs/benchmarks.md, "Landmark tracking"): 1.5 costs about half of 2.
+  double look_window = 1.5;
   // The box a followed face is fitted in moves with its landmarks only once they have moved
   // it by this share of its width (or grown it by this share): a still face keeps one box.
   double box_deadband = 0.05;

@@ -1,8 +1,9 @@
 // Bare-face tracking cost per frame on one core: the default head rendered bare (the range of
 // motion, sensor noise 2) at 640x480 and 1280x720, frames rendered beforehand so only tracking
 // is timed. LandmarkTracker::track is the whole step (find the face again near where it was,
-// fit the 68 landmarks, steady them); beside it the landmark fit alone and the whole-image
-// face search that finding a face (first frame, after a loss) costs.
+// fit the 68 landmarks, steady them); beside it the landmark fit alone, the whole-image face
+// search that finding a face (first frame, after a loss) costs, and the detector's look again
+// near a followed face that every tenth frame costs.
 
 #include <benchmark/benchmark.h>
 
@@ -87,6 +88,37 @@ void BM_FaceSearch(benchmark::State& state) {
     benchmark::DoNotOptimize(model.detect(gray, {0, 0, gray.cols, gray.rows}, 100, 0).data());
 }
 BENCHMARK(BM_FaceSearch)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::kMillisecond);
+
+// The detector's look again around a followed face (LandmarkTrackerOptions::look_window, the
+// third argument in tenths: 15 the default, 20 the window the tracker used before), as
+// LandmarkTracker makes it every check_every frames: the face at 0.8 of its size fills the
+// detector's smallest window.
+void BM_FaceLookAgain(benchmark::State& state) {
+  const BareClip& c = clip(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  tracking::LandmarkModel model(tracking::default_landmark_model());
+  cv::Mat gray;
+  cv::cvtColor(c.frames[0], gray, cv::COLOR_BGR2GRAY);
+  const auto faces = model.detect(gray, {0, 0, gray.cols, gray.rows}, 100, 0);
+  if (faces.empty()) {
+    state.SkipWithError("no face on the first frame");
+    return;
+  }
+  const cv::Rect2d& face = faces[0].box;
+  const double k = static_cast<double>(state.range(2)) / 10;
+  const cv::Rect window =
+      cv::Rect(cv::Point(static_cast<int>(face.x - face.width * (k - 1) / 2),
+                         static_cast<int>(face.y - face.height * (k - 1) / 2)),
+               cv::Size(static_cast<int>(face.width * k), static_cast<int>(face.height * k))) &
+      cv::Rect(0, 0, gray.cols, gray.rows);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(model.detect(gray, window, 0.8 * face.width, -0.5).data());
+}
+BENCHMARK(BM_FaceLookAgain)
+    ->Args({640, 480, 15})
+    ->Args({640, 480, 20})
+    ->Args({1280, 720, 15})
+    ->Args({1280, 720, 20})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -276,6 +276,9 @@ TEST(LandmarkTrackerOptions, RejectsNonsense) {
   o = {};
   o.stabiliser.follow_share = 0;
   EXPECT_THROW(o.validate(), InputError);
+  o = {};
+  o.look_window = 0.5;  // a window smaller than the face cannot hold it
+  EXPECT_THROW(o.validate(), InputError);
   EXPECT_NO_THROW(LandmarkTrackerOptions{}.validate());
 }
 
