@@ -10,6 +10,7 @@
 #include <map>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "eval/synth.hpp"
 #include "facecore/face_model.hpp"
@@ -64,17 +65,26 @@ BENCHMARK(BM_LandmarkTrackFrame)
     ->Args({1280, 720})
     ->Unit(benchmark::kMillisecond);
 
-void BM_LandmarkFit(benchmark::State& state) {
+// The clip's first frame in grey and the face the detector finds on it; nullopt (the benchmark
+// skipped, saying why) when there is none.
+std::optional<cv::Rect2d> first_face(benchmark::State& state, tracking::LandmarkModel& model,
+                                     cv::Mat& gray) {
   const BareClip& c = clip(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  tracking::LandmarkModel model(tracking::default_landmark_model());
-  cv::Mat gray;
   cv::cvtColor(c.frames[0], gray, cv::COLOR_BGR2GRAY);
   const auto faces = model.detect(gray, {0, 0, gray.cols, gray.rows}, 100, 0);
   if (faces.empty()) {
     state.SkipWithError("no face on the first frame");
-    return;
+    return std::nullopt;
   }
-  for (auto _ : state) benchmark::DoNotOptimize(model.fit(gray, faces[0].box).data());
+  return faces[0].box;
+}
+
+void BM_LandmarkFit(benchmark::State& state) {
+  tracking::LandmarkModel model(tracking::default_landmark_model());
+  cv::Mat gray;
+  const auto face = first_face(state, model, gray);
+  if (!face) return;
+  for (auto _ : state) benchmark::DoNotOptimize(model.fit(gray, *face).data());
 }
 BENCHMARK(BM_LandmarkFit)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::kMillisecond);
 
@@ -94,16 +104,11 @@ BENCHMARK(BM_FaceSearch)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::k
 // LandmarkTracker makes it every check_every frames: the face at 0.8 of its size fills the
 // detector's smallest window.
 void BM_FaceLookAgain(benchmark::State& state) {
-  const BareClip& c = clip(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   tracking::LandmarkModel model(tracking::default_landmark_model());
   cv::Mat gray;
-  cv::cvtColor(c.frames[0], gray, cv::COLOR_BGR2GRAY);
-  const auto faces = model.detect(gray, {0, 0, gray.cols, gray.rows}, 100, 0);
-  if (faces.empty()) {
-    state.SkipWithError("no face on the first frame");
-    return;
-  }
-  const cv::Rect2d& face = faces[0].box;
+  const auto found = first_face(state, model, gray);
+  if (!found) return;
+  const cv::Rect2d& face = *found;
   const double k = static_cast<double>(state.range(2)) / 10;
   const cv::Rect window =
       cv::Rect(cv::Point(static_cast<int>(face.x - face.width * (k - 1) / 2),
