@@ -46,7 +46,7 @@ struct IdentificationOptions {
   // its contrast))^2 farther squared, so that of two detections near a dot's place the one
   // as dark as the other dots takes the name (the dot above the eye, not the shadow in it);
   // a faint dot alone near its place (in a corner's shadow, on skin turning away) is still
-  // named. 0: position alone.
+  // named (tests/tracking/dark_features_test.cpp). 0: position alone.
   double ink_weight = 0.15;
   // A confident identification meets all of these.
   double min_explained = 0.8;  // share of the layout's dots given a detection
