@@ -208,13 +208,6 @@ struct SuiteArgs {
   std::vector<std::string> tracker_options;  // NAME=VALUE
 };
 
-tracking::TrackerOptions tracker_options(const std::vector<std::string>& assignments) {
-  tracking::TrackerOptions o;
-  for (const std::string& a : assignments) tracking::set_tracker_option(o, a);
-  o.validate();
-  return o;
-}
-
 // " with --tracker-option A=1 ...", for the report's first line; empty for the defaults.
 std::string options_note(const std::vector<std::string>& tracker,
                          const std::vector<std::string>& solver) {
@@ -229,7 +222,7 @@ void eval_suite(const SuiteArgs& a) {
   const eval::SuiteDefinition suite = eval::load_suite(
       a.suite.empty() ? eval::default_suite_path() : std::filesystem::path(a.suite));
   const auto chosen = chosen_scenarios(suite.scenarios, a.only);
-  const tracking::TrackerOptions tracker = tracker_options(a.tracker_options);
+  const tracking::TrackerOptions tracker = with_tracker_options(a.tracker_options);
   const Scene scene(a.layout);
 
   std::vector<eval::SuiteRow> rows;
@@ -280,7 +273,7 @@ void eval_photos(const PhotosArgs& a) {
   const eval::PhotoSuiteDefinition scenes = eval::load_photo_scenes(
       a.file.empty() ? eval::default_photo_scenes_path() : std::filesystem::path(a.file));
   const auto chosen = chosen_scenarios(scenes.scenarios, a.only);
-  const tracking::TrackerOptions tracker = tracker_options(a.tracker_options);
+  const tracking::TrackerOptions tracker = with_tracker_options(a.tracker_options);
   const tracking::MarkerLayout layout = tracking::load_layout(
       a.layout.empty() ? tracking::default_layout_path() : std::filesystem::path(a.layout));
 
@@ -413,7 +406,7 @@ void eval_loop(const LoopArgs& a) {
   const eval::LoopDefinition loop = eval::load_closed_loop(
       a.file.empty() ? eval::default_closed_loop_path() : std::filesystem::path(a.file));
   const auto chosen = chosen_scenarios(loop.scenarios, a.only);
-  const tracking::TrackerOptions tracker = tracker_options(a.tracker_options);
+  const tracking::TrackerOptions tracker = with_tracker_options(a.tracker_options);
   mapping::SolverOptions solver;
   for (const std::string& s : a.solver_options) mapping::set_solver_option(solver, s);
   solver.validate();

@@ -43,9 +43,15 @@ void check_choice(const FaceTrackerArgs& a) {
 
 }  // namespace
 
-tracking::TrackerOptions FaceTrackerArgs::marker_options(tracking::TrackerOptions base) const {
-  for (const std::string& a : tracker_options) tracking::set_tracker_option(base, a);
+tracking::TrackerOptions with_tracker_options(const std::vector<std::string>& assignments,
+                                              tracking::TrackerOptions base) {
+  for (const std::string& a : assignments) tracking::set_tracker_option(base, a);
+  base.validate();
   return base;
+}
+
+tracking::TrackerOptions FaceTrackerArgs::marker_options(tracking::TrackerOptions base) const {
+  return with_tracker_options(tracker_options, std::move(base));
 }
 
 std::unique_ptr<tracking::FaceTracker> FaceTrackerArgs::make(

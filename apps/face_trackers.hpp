@@ -14,6 +14,11 @@
 
 namespace rostro::app {
 
+// `base` with each NAME=VALUE assignment (--tracker-option) set on it. Throws InputError
+// naming an unknown field or a bad value.
+tracking::TrackerOptions with_tracker_options(const std::vector<std::string>& assignments,
+                                              tracking::TrackerOptions base = {});
+
 struct FaceTrackerArgs {
   std::string layout;  // marker layout JSON; empty: the default one (or none with markerless)
   bool layout_required = true;  // without --markerless, --layout must be given
