@@ -108,15 +108,25 @@ TEST(Identify, TwoDotsShiftedTheSameWayKeepTheirNames) {
   }
 }
 
-TEST(Identify, ALongBlobAtADotsPlaceIsNotNamedForIt) {
-  const MarkerLayout layout =
+// The layout's default arrangement and the distance from `marker` to its nearest other dot.
+struct LayoutAt {
+  MarkerLayout layout =
       load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
+  double spacing_of(const MarkerSpec& marker) const {
+    double spacing = 1e9;
+    for (const MarkerSpec& m : layout.markers)
+      if (!m.is_tag() && &m != &marker)
+        spacing = std::min(spacing, cv::norm(m.frontal() - marker.frontal()));
+    return spacing;
+  }
+};
+
+TEST(Identify, ALongBlobAtADotsPlaceIsNotNamedForIt) {
+  const LayoutAt at;
+  const MarkerLayout& layout = at.layout;
   const MarkerSpec* corner = layout.find("mouth_l");
   ASSERT_TRUE(corner);
-  double spacing = 1e9;
-  for (const MarkerSpec& m : layout.markers)
-    if (!m.is_tag() && &m != corner)
-      spacing = std::min(spacing, cv::norm(m.frontal() - corner->frontal()));
+  const double spacing = at.spacing_of(*corner);
   // The dot is worn on the skin 0.6 of its spacing out from where the layout puts it; the lip
   // corner, as dark, lies exactly there, twice as long as wide, and stood apart from the lips
   // only measured high up its contrast.
@@ -159,14 +169,11 @@ TEST(Identify, ADotForeshortenedOnSkinThatTurnsAwayIsStillNamed) {
 }
 
 TEST(Identify, AFaintBlobNearerADotsPlaceThanTheDotDoesNotTakeItsName) {
-  const MarkerLayout layout =
-      load_layout(std::filesystem::path(ROSTRO_DATA_DIR) / "layouts" / "default.json");
+  const LayoutAt at;
+  const MarkerLayout& layout = at.layout;
   const MarkerSpec* lid = layout.find("lid_r_up");
   ASSERT_TRUE(lid);
-  double spacing = 1e9;
-  for (const MarkerSpec& m : layout.markers)
-    if (!m.is_tag() && &m != lid)
-      spacing = std::min(spacing, cv::norm(m.frontal() - lid->frontal()));
+  const double spacing = at.spacing_of(*lid);
   // The upper-lid dot worn 0.4 of its spacing above the layout's place, and a shadow in the
   // eye a third as dark, of the same size and shape, 0.25 below it (the photo scene at
   // 640x480: the dot 6.4 px from its predicted place, the shadow 4.6).
