@@ -164,7 +164,7 @@ ActorProfile calibrate_actor(const std::vector<tracking::TrackedFrame>& frames,
   for (const auto& m : profile.markers)
     if (is_feature_point(m.feature_point))
       image_points[m.feature_point] = Eigen::Vector3d(m.image.x, -m.image.y, 0);
-  profile.fapu_image = estimate_fapu(image_points, prior).fapu;
+  profile.fapu_image = estimate_fapu(image_points, prior, options.lid_markers_on_margin).fapu;
 
   // Head pose from the prior, then the 3D shape at the prior's depths.
   std::vector<cv::Point3d> object;
@@ -238,7 +238,7 @@ ActorProfile calibrate_actor(const std::vector<tracking::TrackedFrame>& frames,
     if (is_feature_point(profile.markers[i].feature_point))
       shape[profile.markers[i].feature_point] = *profile.markers[i].position;
   }
-  FapuEstimate estimate = estimate_fapu(shape, prior);
+  FapuEstimate estimate = estimate_fapu(shape, prior, options.lid_markers_on_margin);
   profile.fapu = estimate.fapu;
   for (auto& [key, note] : estimate.notes) profile.fapu_notes[key] = note;
   profile.shape_source = options.prior_name +

@@ -40,6 +40,9 @@ struct ActorCalibrationOptions {
   // The prior head's deformation at its feature points (see ActorProfile::marker_motion); null:
   // FAPs move their own point along fap_axis(). Copied to every non-rigid marker on such a point.
   const std::map<FeaturePointId, FapMotion>* motion = nullptr;
+  // The lid markers (3.1-3.4) lie on the lid margins, as landmarks do, and measure IRISD0;
+  // painted dots sit beside them (see estimate_fapu).
+  bool lid_markers_on_margin = true;
 };
 
 // A marker's nominal position as a layout gives it (any frame aligned with the prior's axes:

@@ -76,8 +76,8 @@ class Estimator {
 
 }  // namespace
 
-FapuEstimate estimate_fapu(const FeaturePointPositions& marked,
-                           const FeaturePointPositions& prior) {
+FapuEstimate estimate_fapu(const FeaturePointPositions& marked, const FeaturePointPositions& prior,
+                           bool lids_on_margin) {
   Estimator e(marked, prior);
   const FeaturePointId p35{3, 5}, p36{3, 6}, p915{9, 15}, p22{2, 2}, p83{8, 3}, p84{8, 4},
       p31{3, 1}, p33{3, 3}, p32{3, 2}, p34{3, 4};
@@ -104,9 +104,9 @@ FapuEstimate estimate_fapu(const FeaturePointPositions& marked,
   out.fapu.ens0 = std::abs(y(p35) - y(p915));
   out.fapu.mns0 = std::abs(y(p915) - y(p22));
   out.fapu.mw0 = std::abs(x(p83) - x(p84));
-  if (e.marked(p31) && e.marked(p33)) {
+  if (lids_on_margin && e.marked(p31) && e.marked(p33)) {
     out.fapu.irisd0 = std::abs(y(p31) - y(p33));
-  } else if (e.marked(p32) && e.marked(p34)) {
+  } else if (lids_on_margin && e.marked(p32) && e.marked(p34)) {
     out.fapu.irisd0 = std::abs(y(p32) - y(p34));
     e.notes()["IRISD0"] = "from the right eyelids 3.2 and 3.4 (the left ones carry no markers)";
   } else {
@@ -114,7 +114,8 @@ FapuEstimate estimate_fapu(const FeaturePointPositions& marked,
                          std::abs(e.prior(p35).x() - e.prior(p36).x());
     out.fapu.irisd0 = out.fapu.es0 * ratio;
     char buf[160];
-    std::snprintf(buf, sizeof buf, "no eyelid markers: ES0 x %.4f (the face prior's IRISD0/ES0)",
+    std::snprintf(buf, sizeof buf, "%s: ES0 x %.4f (the face prior's IRISD0/ES0)",
+                  lids_on_margin ? "no eyelid markers" : "the eyelid dots sit beside the margins",
                   ratio);
     e.notes()["IRISD0"] = buf;
   }

@@ -9,6 +9,7 @@
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "tests/support/synthetic_face.hpp"
+#include "tracking/ibug_mapping.hpp"
 
 namespace rostro::calib {
 namespace {
@@ -65,6 +66,30 @@ TEST(FapuEstimation, LidMarkersGiveIrisdDirectly) {
   EXPECT_NEAR(e.fapu.irisd0, 12, 1e-9);
   EXPECT_TRUE(e.notes.empty()) << "every FAPU point is marked";
   EXPECT_THROW(estimate_fapu(only(face, {{3, 1}}), generic_face_points()), InputError);
+}
+
+TEST(FapuEstimation, LidDotsBesideTheMarginsDoNotMeasureIrisd) {
+  // Dots are painted on the lid skin clear of the lashes, here 2.3 mm above and below the
+  // margins: their distance is not the iris's.
+  const FeaturePointPositions prior = generic_face_points();
+  auto face = prior;
+  for (FeaturePointId lid : {FeaturePointId{3, 1}, FeaturePointId{3, 2}}) face[lid].y() += 2.3;
+  for (FeaturePointId lid : {FeaturePointId{3, 3}, FeaturePointId{3, 4}}) face[lid].y() -= 2.3;
+  const auto marked =
+      only(face, {{3, 1}, {3, 2}, {3, 3}, {3, 4}, {3, 5}, {3, 6}, {9, 15}, {2, 2}, {8, 3}, {8, 4}});
+  const double truth = fapu_from_feature_points(prior).irisd0;
+  EXPECT_NEAR(estimate_fapu(marked, prior).fapu.irisd0, truth + 4.6, 1e-9);  // lids on margins
+  const FapuEstimate beside = estimate_fapu(marked, prior, false);
+  EXPECT_NEAR(beside.fapu.irisd0, truth, 1e-9);  // ES0 x the prior's IRISD0/ES0
+  EXPECT_NE(beside.notes.at("IRISD0").find("beside"), std::string::npos);
+}
+
+TEST(ActorPrior, OnlyLandmarksOnTheLidsMeasureIrisd) {
+  const ActorPrior prior = load_actor_prior();
+  const auto dots = tracking::load_layout(data_file("layouts/default.json"));
+  EXPECT_FALSE(actor_calibration_options(dots, prior, "a").lid_markers_on_margin);
+  const auto landmarks = tracking::landmark_layout(tracking::default_ibug_mapping(), prior.points);
+  EXPECT_TRUE(actor_calibration_options(landmarks, prior, "a").lid_markers_on_margin);
 }
 
 TEST(ActorCalibration, NeutralFramesGiveFapuShapeAndPose) {
