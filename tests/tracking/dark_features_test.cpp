@@ -137,10 +137,10 @@ TEST(Identify, ALongBlobAtADotsPlaceIsNotNamedForIt) {
   dots.push_back(lip_corner);
 
   const Identification id = identify_markers(layout, dots, {});
-  for (const auto& [name, at] : truth) {
+  for (const auto& [name, where] : truth) {
     auto it = id.dots.find(name);
     ASSERT_NE(it, id.dots.end()) << name;
-    EXPECT_LT(cv::norm(it->second.center - at), 1e-9) << name;
+    EXPECT_LT(cv::norm(it->second.center - where), 1e-9) << name;
   }
   // The shape is what tells them apart: judged by place alone, the blob takes the name.
   IdentificationOptions any_shape;
