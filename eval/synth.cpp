@@ -87,7 +87,14 @@ std::vector<PaintedMarker> place_markers(const FaceModel& model,
     if (!spec.is_tag() && model.has_feature_point(spec.feature_point)) {
       PaintedMarker pm;
       pm.spec = &spec;
-      pm.vertex = model.feature_points.at(spec.feature_point);
+      const int vertex = model.feature_points.at(spec.feature_point);
+      pm.place = SurfacePoint::at_vertex(vertex);
+      if (spec.beside_mm) {
+        const Eigen::Vector3f& p = model.positions[static_cast<std::size_t>(vertex)];
+        if (auto skin =
+                front_skin_point(model, p.x() + spec.beside_mm->x, p.y() + spec.beside_mm->y))
+          pm.place = *skin;
+      }
       placed.push_back(std::move(pm));
     }
   if (layout.tag_count() == 0) return placed;
@@ -299,21 +306,22 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
         truth.markers.push_back(std::move(obs));
         continue;
       }
-      const auto v = static_cast<std::size_t>(pm.vertex);
+      const Eigen::Vector3f at = pm.place.on(positions);
+      const Eigen::Vector3f normal = pm.place.on(normals).normalized();
       tracking::MarkerObservation obs;
       obs.marker = pm.spec->id;
       obs.feature_point = pm.spec->feature_point;
       obs.quality = 1.0;
-      const bool in_front = projector.project(positions[v], obs.position);
-      const Eigen::Vector3f to_eye = projector.m.eye - positions[v];
-      const bool facing = normals[v].dot(to_eye.normalized()) > 0.1f;
+      const bool in_front = projector.project(at, obs.position);
+      const Eigen::Vector3f to_eye = projector.m.eye - at;
+      const bool facing = normal.dot(to_eye.normalized()) > 0.1f;
       const bool inside = obs.position.x >= 0 && obs.position.y >= 0 &&
                           obs.position.x <= o.width - 1 && obs.position.y <= o.height - 1;
       obs.valid = in_front && facing && inside && !occ.covers(obs.position);
       // Landmarks are places on the bare skin: truth, nothing painted.
       if (in_front && facing && inside && pm.spec->kind == tracking::MarkerKind::Dot) {
         // The disc on the skin: a circle in the tangent plane, projected.
-        const Eigen::Vector3f n = normals[v].normalized();
+        const Eigen::Vector3f& n = normal;
         Eigen::Vector3f u = n.cross(Eigen::Vector3f::UnitY());
         if (u.norm() < 1e-3f) u = n.cross(Eigen::Vector3f::UnitX());
         u.normalize();
@@ -323,8 +331,7 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
         for (int k = 0; k < 24; ++k) {
           const float angle = static_cast<float>(2 * kPi * k / 24);
           cv::Point2d q;
-          if (!projector.project(positions[v] + r * (std::cos(angle) * u + std::sin(angle) * w2),
-                                 q))
+          if (!projector.project(at + r * (std::cos(angle) * u + std::sin(angle) * w2), q))
             continue;
           outline.emplace_back(cvRound(q.x * 16), cvRound(q.y * 16));  // 4 fractional bits
         }

@@ -4,13 +4,13 @@
 // a moving camera, with optional lighting changes, sensor noise, motion blur and a passing
 // occluder, all seeded so a clip is reproducible.
 //
-// Each dot is a disc of the layout's diameter lying on the skin at its feature-point vertex:
+// Each dot is a disc of the layout's diameter lying on the skin at its place (below):
 // the disc (in the tangent plane of the deformed surface there) is projected through the same
 // camera matrices the renderer uses and drawn over the rendered face, so it moves, turns and
 // foreshortens with the skin. The mesh is too coarse to carry a 4 mm dot in its vertex
 // colours (a painted vertex smears over its triangles), hence the decal.
 // Ground truth is the exact projection of the dot's centre. A dot is visible (and drawn) when
-// its vertex faces the camera, lies inside the image and is not under the occluder. Being
+// its place faces the camera, lies inside the image and is not under the occluder. Being
 // hidden behind other geometry (the nose at a large turn) is judged by the facing test only.
 // AprilTags of the layout are not drawn yet (the renderer has vertex colours, no textures);
 // their markers are left out of the clip and of the truth.
@@ -23,6 +23,7 @@
 #include "facecore/expression_library.hpp"
 #include "facecore/face_model.hpp"
 #include "facecore/fap_frame.hpp"
+#include "facecore/surface_point.hpp"
 #include "render/frame_sink.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/tracked_frame.hpp"
@@ -50,7 +51,7 @@ struct SynthOptions {
 
 struct PaintedMarker {
   const tracking::MarkerSpec* spec = nullptr;
-  int vertex = -1;  // dots: the feature point's vertex, the dot's centre
+  SurfacePoint place;  // dots: the dot's centre, its feature point's vertex or beside it
   // Tags: the neutral plane (centre, unit axes: right and up as the tag is read, normal out of
   // the head) and the rigid vertices that carry it.
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();
@@ -59,10 +60,12 @@ struct PaintedMarker {
   std::vector<int> anchors;
 };
 
-// The layout's dots that sit on a feature point of `model`, with that point's vertex, then its
-// AprilTags placed on the head (see above). Dots on feature points the model lacks are left
-// out. A landmark layout's markers (tracking::MarkerKind::Landmark) are placed like dots but
-// not painted: the head is rendered bare, and the truth is the feature points' projection.
+// The layout's dots that sit on a feature point of `model`, centred on that point's vertex or,
+// for a dot the layout paints beside its point (MarkerSpec::beside_mm), on the skin there
+// (seen from the front), then its AprilTags placed on the head (see above). Dots on feature points
+// the model lacks are left out. A landmark layout's markers (tracking::MarkerKind::Landmark) are
+// placed like dots but not painted: the head is rendered bare, and the truth is the feature points'
+// projection.
 std::vector<PaintedMarker> place_markers(const FaceModel& model,
                                          const tracking::MarkerLayout& layout);
 

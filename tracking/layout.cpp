@@ -77,6 +77,16 @@ MarkerSpec parse_marker(const json& m, size_t index, const std::string& source) 
     if (!v.is_number()) fail(source, context + ": 'position' should hold three numbers");
   spec.position_mm = {m["position"][0].get<double>(), m["position"][1].get<double>(),
                       m["position"][2].get<double>()};
+  if (m.contains("beside")) {
+    const auto& b = m["beside"];
+    if (spec.kind != MarkerKind::Dot)
+      fail(source, context + ": only a dot can sit 'beside' its point");
+    if (!b.is_array() || b.size() != 2 || !b[0].is_number() || !b[1].is_number())
+      fail(source, context + ": 'beside' should be [x, y] in millimetres");
+    spec.beside_mm = cv::Point2d(b[0].get<double>(), b[1].get<double>());
+    if (!(cv::norm(*spec.beside_mm) <= 20))
+      fail(source, context + ": 'beside' should be within 20 mm of the feature point");
+  }
   return spec;
 }
 

@@ -5,11 +5,18 @@
 //     "dot": { "diameter_mm": 4, "polarity": "dark" | "bright" },
 //     "markers": [
 //       { "id": "brow_l_in", "type": "dot", "fp": "4.1", "position": [15, 52, -20] },
+//       { "id": "lid_l_up", "type": "dot", "fp": "3.1", "beside": [0, 3], ... },
 //       { "type": "apriltag", "family": "tag36h11", "tag_id": 0, "size_mm": 20,
 //         "rigid": true, "position": [0, 92, -12], "rotation_deg": 0 } ] }
 // Positions are the markers' nominal neutral places in millimetres on a frontal face: origin
 // at the nose tip, x toward the face's own left (the viewer's right in an unmirrored
 // camera), y up, z toward the camera. Identification uses (x, y) as the frontal arrangement.
+// "beside" (dots, optional): the dot is painted this far from its feature point on the skin
+// (x, y in millimetres, the same axes), where the point lies on a line of the face a dot cannot
+// sit on: the lid margins with their lashes, the eye corners. "position" stays the point's:
+// identification and the tracker's eye rules read the arrangement of the points (moved to the
+// dots' places, the rendered head's suite failed on 31 % of its frames). Calibration takes the
+// face prior's shape and motion at the dot's own place, and the FAPU at the point.
 
 #include <filesystem>
 #include <opencv2/core.hpp>
@@ -29,9 +36,10 @@ enum class DotPolarity { Dark, Bright };
 struct MarkerSpec {
   std::string id;  // dots: the layout's label; tags: "<family>:<tag_id>"
   MarkerKind kind = MarkerKind::Dot;
-  FeaturePointId feature_point;  // {} when the marker sits on no MPEG-4 point
-  bool rigid = false;            // moves only with the skull: head pose, not FAPs
-  cv::Point3d position_mm;       // nominal neutral position (see above)
+  FeaturePointId feature_point;          // {} when the marker sits on no MPEG-4 point
+  bool rigid = false;                    // moves only with the skull: head pose, not FAPs
+  cv::Point3d position_mm;               // nominal neutral position (see above)
+  std::optional<cv::Point2d> beside_mm;  // dots: where from its feature point it is painted
   // AprilTags only.
   std::string family;  // "tag36h11"
   int tag_id = -1;
