@@ -143,7 +143,9 @@ ActorProfile calibrate_actor(const std::vector<tracking::TrackedFrame>& frames,
     m.rigid = options.rigid_markers.count(s.marker) != 0 || !is_feature_point(s.fp);
     m.image = {median(s.x), median(s.y)};
     m.frames_seen = static_cast<int>(s.x.size());
-    if (options.motion && !m.rigid)
+    if (auto b = options.beside.find(m.marker); b != options.beside.end() && !m.rigid)
+      profile.marker_motion[m.marker] = b->second.motion;
+    else if (options.motion && !m.rigid)
       if (auto it = options.motion->find(m.feature_point); it != options.motion->end())
         profile.marker_motion[m.marker] = it->second;
     profile.markers.push_back(std::move(m));
@@ -170,19 +172,25 @@ ActorProfile calibrate_actor(const std::vector<tracking::TrackedFrame>& frames,
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
   std::vector<std::size_t> with_prior;
+  std::vector<Eigen::Vector3d> from_point;  // a dot's place less its feature point's (prior)
   for (std::size_t i = 0; i < profile.markers.size(); ++i) {
     const NeutralMarker& m = profile.markers[i];
-    Eigen::Vector3d x;
+    Eigen::Vector3d x, offset = Eigen::Vector3d::Zero();
+    const auto point = prior.find(m.feature_point);
     if (auto own = options.marker_priors.find(m.marker);
-        own != options.marker_priors.end() && !prior.count(m.feature_point))
+        own != options.marker_priors.end() && point == prior.end())
       x = own->second;
-    else if (auto it = prior.find(m.feature_point); it != prior.end())
-      x = it->second;
+    else if (auto b = options.beside.find(m.marker);
+             b != options.beside.end() && point != prior.end())
+      x = b->second.position, offset = x - point->second;
+    else if (point != prior.end())
+      x = point->second;
     else
       continue;
     object.emplace_back(x.x(), x.y(), x.z());
     image.push_back(pixels[i]);
     with_prior.push_back(i);
+    from_point.push_back(offset);
   }
   if (object.size() < 4)
     throw InputError("actor calibration: only " + std::to_string(object.size()) +
@@ -235,8 +243,10 @@ ActorProfile calibrate_actor(const std::vector<tracking::TrackedFrame>& frames,
     const cv::Vec3d ray(normalised[i].x * depth, normalised[i].y * depth, depth);
     const cv::Vec3d head = R.t() * (ray - tvec);
     profile.markers[i].position = Eigen::Vector3d(head[0], head[1], head[2]);
+    const Eigen::Vector3d offset =
+        from_point[n].cwiseProduct(Eigen::Vector3d(scale[0], scale[1], sz));
     if (is_feature_point(profile.markers[i].feature_point))
-      shape[profile.markers[i].feature_point] = *profile.markers[i].position;
+      shape[profile.markers[i].feature_point] = *profile.markers[i].position - offset;
   }
   FapuEstimate estimate = estimate_fapu(shape, prior, options.lid_markers_on_margin);
   profile.fapu = estimate.fapu;

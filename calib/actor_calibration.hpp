@@ -20,6 +20,13 @@
 
 namespace rostro::calib {
 
+// A dot painted beside its feature point (tracking::MarkerSpec::beside_mm) as the face prior
+// has it: its place on the prior's skin and the prior head's deformation there.
+struct PriorPlace {
+  Eigen::Vector3d position;  // prior frame, mm
+  FapMotion motion;          // as ActorProfile::marker_motion
+};
+
 struct ActorCalibrationOptions {
   std::string name = "actor";
   // The 3D prior: feature points of a face in mm (x to the face's left, y up, z out of the
@@ -43,6 +50,10 @@ struct ActorCalibrationOptions {
   // The lid markers (3.1-3.4) lie on the lid margins, as landmarks do, and measure IRISD0;
   // painted dots sit beside them (see estimate_fapu).
   bool lid_markers_on_margin = true;
+  // Dots painted beside their feature point, by marker id: the neutral pose is fitted to their
+  // own places, the profile takes the prior's motion there, and the FAPU the feature point (the
+  // dot's place less its offset, scaled to the actor).
+  std::map<std::string, PriorPlace> beside;
 };
 
 // A marker's nominal position as a layout gives it (any frame aligned with the prior's axes:

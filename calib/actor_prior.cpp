@@ -11,15 +11,23 @@
 #include "facecore/error.hpp"
 #include "facecore/face_model.hpp"
 #include "facecore/fap_table.hpp"
+#include "facecore/surface_point.hpp"
 
 namespace rostro::calib {
 
-std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> feature_point_motion(
-    const FaceModel& model) {
-  std::map<int, FeaturePointId> at_vertex;
-  for (const auto& [fp, v] : model.feature_points) at_vertex[v] = fp;
+namespace {
+
+// Couplings under 1 % of a FAPU per FAPU are noise of the deformation's fall-off.
+FapMotion without_negligible(FapMotion motion) {
+  for (auto it = motion.begin(); it != motion.end();)
+    it = it->second.norm() < 0.01 ? motion.erase(it) : std::next(it);
+  return motion;
+}
+
+// Per vertex, every FAP's step in multiples of its FAPU, the negligible ones kept.
+std::vector<FapMotion> raw_vertex_motion(const FaceModel& model) {
   const Eigen::SparseMatrix<double> map = Deformer(model).linear_map();  // 3V x 68
-  std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> out;
+  std::vector<FapMotion> out(model.positions.size());
   for (int col = 0; col < map.outerSize(); ++col) {
     const int id = col + 1;
     // Head rotation (48-50) is the pose; eyeball turns (23-26) are rotations, not linear.
@@ -27,18 +35,53 @@ std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> feature_point_motion(
     const double unit = model.fapu.unit_size(fap_info(id).unit);
     if (!(unit > 0)) continue;
     for (Eigen::SparseMatrix<double>::InnerIterator it(map, col); it; ++it) {
-      const auto row = static_cast<int>(it.row());
-      auto fp = at_vertex.find(row / 3);
-      if (fp == at_vertex.end()) continue;
-      auto& step = out[fp->second].try_emplace(id, Eigen::Vector3d::Zero()).first->second;
-      step[row % 3] += it.value() / unit;
+      const auto row = static_cast<std::size_t>(it.row());
+      auto& step = out[row / 3].try_emplace(id, Eigen::Vector3d::Zero()).first->second;
+      step[static_cast<Eigen::Index>(row % 3)] += it.value() / unit;
     }
   }
-  // Drop the negligible couplings (under 1 % of a FAPU per FAPU).
-  for (auto& [fp, faps] : out)
-    for (auto it = faps.begin(); it != faps.end();)
-      it = it->second.norm() < 0.01 ? faps.erase(it) : std::next(it);
   return out;
+}
+
+// The motion of each feature point's vertex that has any.
+std::map<FeaturePointId, FapMotion> at_feature_points(const FaceModel& model,
+                                                      const std::vector<FapMotion>& motion) {
+  std::map<FeaturePointId, FapMotion> out;
+  for (const auto& [fp, v] : model.feature_points)
+    if (!motion[static_cast<std::size_t>(v)].empty()) out[fp] = motion[static_cast<std::size_t>(v)];
+  return out;
+}
+
+}  // namespace
+
+std::vector<FapMotion> vertex_motion(const FaceModel& model) {
+  std::vector<FapMotion> out = raw_vertex_motion(model);
+  for (FapMotion& m : out) m = without_negligible(std::move(m));
+  return out;
+}
+
+std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> feature_point_motion(
+    const FaceModel& model) {
+  return at_feature_points(model, vertex_motion(model));
+}
+
+std::optional<PriorPlace> place_beside(const ActorPrior& prior, FeaturePointId fp,
+                                       const Eigen::Vector2d& beside) {
+  if (!prior.head || !prior.vertex_motion || !prior.head->has_feature_point(fp))
+    return std::nullopt;
+  const Eigen::Vector3d point = prior.head->feature_point(fp);
+  const auto skin = front_skin_point(*prior.head, point.x() + beside.x(), point.y() + beside.y());
+  if (!skin) return std::nullopt;
+  PriorPlace place;
+  place.position = skin->on(prior.head->positions).cast<double>();
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto w = static_cast<double>(skin->weights[static_cast<Eigen::Index>(k)]);
+    for (const auto& [id, step] :
+         (*prior.vertex_motion)[static_cast<std::size_t>(skin->vertices[k])])
+      place.motion.try_emplace(id, Eigen::Vector3d::Zero()).first->second += w * step;
+  }
+  place.motion = without_negligible(std::move(place.motion));
+  return place;
 }
 
 std::vector<Eigen::Vector3d> front_skin(const FaceModel& model) {
@@ -59,11 +102,16 @@ std::vector<Eigen::Vector3d> front_skin(const FaceModel& model) {
 
 ActorPrior load_actor_prior() {
   try {
-    const FaceModel head = load_default_face_model();
-    return {head.feature_point_positions(), "the default head (" + head.name + ")",
-            feature_point_motion(head), front_skin(head)};
+    auto head = std::make_shared<const FaceModel>(load_default_face_model());
+    auto motion = std::make_shared<const std::vector<FapMotion>>(vertex_motion(*head));
+    return {head->feature_point_positions(),
+            "the default head (" + head->name + ")",
+            at_feature_points(*head, *motion),
+            front_skin(*head),
+            head,
+            motion};
   } catch (const InputError&) {
-    return {generic_face_points(), "rostro's built-in generic face", {}, {}};
+    return {generic_face_points(), "rostro's built-in generic face", {}, {}, nullptr, nullptr};
   }
 }
 
@@ -84,6 +132,9 @@ ActorCalibrationOptions actor_calibration_options(const tracking::MarkerLayout& 
     const bool on_lid =
         m.feature_point.group == 3 && m.feature_point.index >= 1 && m.feature_point.index <= 4;
     if (on_lid && m.kind == tracking::MarkerKind::Dot) o.lid_markers_on_margin = false;
+    if (m.beside_mm && fp)
+      if (auto place = place_beside(prior, *fp, {m.beside_mm->x, m.beside_mm->y}))
+        o.beside[m.id] = *place;
   }
   o.marker_priors = place_nominal_markers(nominal, prior.points);
   // A tag lies on the skin: the layout's nominal depth for it is a guess made on another head

@@ -3,6 +3,8 @@
 // by `rostro calibrate actor`, `rostro capture` and `rostro live`.
 
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,14 +26,26 @@ struct ActorPrior {
   // where markers on no feature point (headband tags) are pressed onto it. Empty for the
   // generic face, whose markers then keep the layout's nominal places.
   std::vector<Eigen::Vector3d> skin;
+  // The prior head and its deformation at every vertex (as `motion`), for the dots painted
+  // beside their point (place_beside); null for the generic face.
+  std::shared_ptr<const FaceModel> head;
+  std::shared_ptr<const std::vector<FapMotion>> vertex_motion;
 };
 
 // Vertices of `model` whose area-weighted normal points out of the face (+z).
 std::vector<Eigen::Vector3d> front_skin(const FaceModel& model);
 
-// The linear deformation of `model` at its feature points, as ActorPrior::motion.
+// The linear deformation of `model` at every vertex, as ActorPrior::motion (couplings under 1 %
+// of a FAPU per FAPU left out).
+std::vector<FapMotion> vertex_motion(const FaceModel& model);
+// The same at its feature points.
 std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> feature_point_motion(
     const FaceModel& model);
+
+// A dot painted `beside` (x, y mm) feature point `fp` on the prior head: the skin there seen
+// from the front, and the head's motion there. nullopt without a head, or with no skin there.
+std::optional<PriorPlace> place_beside(const ActorPrior& prior, FeaturePointId fp,
+                                       const Eigen::Vector2d& beside);
 
 // The default head's feature points, or rostro's built-in generic face when no head loads.
 ActorPrior load_actor_prior();

@@ -30,8 +30,8 @@ struct NeutralMarker {
 };
 
 // How one unit of each FAP moves a marker, in multiples of that FAP's FAPU (head frame): the
-// prior head's own deformation at the marker's point, cross-effects included (open_jaw
-// carries the lower lip along). FAP id -> step.
+// prior head's own deformation at the marker's point (or, for a dot painted beside it, at the
+// dot's place), cross-effects included (open_jaw carries the lower lip along). FAP id -> step.
 using FapMotion = std::map<int, Eigen::Vector3d>;
 
 // A correction applied to a mapped FAP: value * gain, then clamped to [min, max] where set.

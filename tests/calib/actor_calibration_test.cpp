@@ -92,6 +92,62 @@ TEST(ActorPrior, OnlyLandmarksOnTheLidsMeasureIrisd) {
   EXPECT_TRUE(actor_calibration_options(landmarks, prior, "a").lid_markers_on_margin);
 }
 
+TEST(ActorCalibration, DotsBesideTheirPointsTakeThePriorsPlaceAndMotion) {
+  const ActorPrior prior = load_actor_prior();
+  if (!prior.head) GTEST_SKIP() << "the default head did not load: no prior head to test";
+  auto layout = tracking::load_layout(data_file("layouts/default.json"));
+  // The inner eye corners painted on their points, the outer ones 3 mm out: the pupils, the
+  // corners' midpoints, move out unless each dot's offset is taken off.
+  for (auto& m : layout.markers)
+    if (m.id == "eye_l_in" || m.id == "eye_r_in") m.beside_mm.reset();
+  const ActorCalibrationOptions o = actor_calibration_options(layout, prior, "a");
+  // The layout paints the upper lid dot 3 mm above the lid's midpoint: on the prior's skin
+  // there, moved by the upper lid's FAP about as much as the midpoint.
+  ASSERT_TRUE(o.beside.count("lid_l_up"));
+  const PriorPlace& lid = o.beside.at("lid_l_up");
+  const Eigen::Vector3d point = prior.points.at({3, 1});
+  EXPECT_NEAR(lid.position.x(), point.x(), 1e-3);
+  EXPECT_NEAR(lid.position.y(), point.y() + 3, 1e-3);
+  ASSERT_TRUE(lid.motion.count(19));
+  EXPECT_NEAR(lid.motion.at(19).y(), prior.motion.at({3, 1}).at(19).y(), 0.1);
+
+  // A neutral view of the prior head wearing the layout: each dot at its own place.
+  CameraIntrinsics camera;
+  camera.image_size = {1280, 720};
+  camera.fx = camera.fy = 1000, camera.cx = 639.5, camera.cy = 359.5;
+  tracking::TrackedFrame frame;
+  for (const auto& m : layout.markers) {
+    Eigen::Vector3d x;
+    if (o.beside.count(m.id))
+      x = o.beside.at(m.id).position;
+    else if (!m.is_tag() && prior.points.count(m.feature_point))
+      x = prior.points.at(m.feature_point);
+    else if (o.marker_priors.count(m.id))
+      x = o.marker_priors.at(m.id);
+    else
+      continue;
+    tracking::MarkerObservation obs;
+    obs.marker = m.id, obs.feature_point = m.feature_point, obs.valid = true;
+    const double depth = 600 - x.z();  // the head faces the camera 600 mm away
+    obs.position = {camera.cx + camera.fx * x.x() / depth, camera.cy - camera.fy * x.y() / depth};
+    frame.markers.push_back(obs);
+  }
+  const ActorProfile p = calibrate_actor({frame, frame}, camera, o);
+  EXPECT_EQ(p.marker_motion.at("lid_l_up"), lid.motion);
+  // The FAPU are measured at the points: the prior head's own.
+  const Fapu& truth = prior.head->fapu;
+  EXPECT_NEAR(p.fapu.es0, truth.es0, 0.01 * truth.es0);
+  EXPECT_NEAR(p.fapu.ens0, truth.ens0, 0.01 * truth.ens0);
+  EXPECT_NEAR(p.fapu.mns0, truth.mns0, 0.01 * truth.mns0);
+  EXPECT_NEAR(p.fapu.mw0, truth.mw0, 0.01 * truth.mw0);
+  EXPECT_NEAR(p.fapu.irisd0, truth.irisd0, 0.01 * truth.irisd0);
+  // And the dot where it was painted, 3 mm above the point, at the actor's scale.
+  const auto* dot = p.find_marker("lid_l_up");
+  ASSERT_TRUE(dot && dot->position);
+  EXPECT_NEAR(dot->position->y() - p.find_marker("eye_l_in")->position->y(),
+              lid.position.y() - prior.points.at({3, 11}).y(), 0.2);
+}
+
 TEST(ActorCalibration, NeutralFramesGiveFapuShapeAndPose) {
   const auto actor = test::make_actor(1.04, 0.97, 1.0);
   const auto pose = test::head_pose(0, 0, 0, {10, -20, 600});
