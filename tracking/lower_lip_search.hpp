@@ -76,6 +76,11 @@ struct LowerLipScene {
   // The followed upper-lip and corner dots (at_upper_lip_or_corner), the tracker's order.
   std::vector<cv::Point2d> upper_start, upper_now;
   std::vector<FollowedDot> followed;  // every followed dot
+  // Every other lost dot where the tracker looks for it (`now`: its expected place): a dot
+  // nearer there than where a shift puts a lower-lip dot is that one's, not the lower lip's
+  // (the chin boss's dot, lost for a frame as the jaw drops, was taken for the lower lip's
+  // middle dot curled under the lip).
+  std::vector<FollowedDot> expected;
 };
 
 struct LowerLipSearch {

@@ -1115,6 +1115,8 @@ struct MarkerTracker::Impl {
       if (searched_with_lower_lip(i))
         scene.lower_lip.push_back(
             {i, reference[i], spacing[i], s.valid, s.position, !s.valid && has_prediction[i]});
+      else if (!s.valid && has_prediction[i])
+        scene.expected.push_back({i, predicted_at(i), spacing[i]});
       if (!s.valid) continue;
       if (at_upper_lip_or_corner(s.spec->feature_point))
         scene.upper_start.push_back(reference[i]), scene.upper_now.push_back(s.position);

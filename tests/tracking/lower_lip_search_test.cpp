@@ -132,6 +132,24 @@ TEST(LowerLipSearch, ALoneDotOrBlobIsNotTaken) {
   EXPECT_TRUE(found->empty());
 }
 
+TEST(LowerLipSearch, ADotWhereALostNeighbourIsExpectedIsNotTaken) {
+  // The middle dot curled under the lip and not seen; the chin boss's dot just below where it
+  // would be, the chin boss itself lost for the frame and expected there.
+  MouthDrawing m;
+  const cv::Point2d chin_boss = apply(m.motion, m.lower_start[1] + m.opened + cv::Point2d(0, 6));
+  disc(m.image, chin_boss, 4, 25);
+  m.draw({0, 2}, false);
+  LowerLipScene scene = m.scene({0, 2});
+  const auto unaware = find_lower_lip(scene, m.search());
+  ASSERT_TRUE(unaware.has_value() && unaware->size() == 1u &&
+              cv::norm(unaware->front().dot.center - chin_boss) < 0.5)
+      << "without the chin boss expected there its dot is taken, or the test checks nothing";
+  scene.expected.push_back({8, chin_boss, kSpacing});
+  const auto found = find_lower_lip(scene, m.search());
+  ASSERT_TRUE(found.has_value()) << "searched: the middle dot is lost";
+  EXPECT_TRUE(found->empty());
+}
+
 TEST(LowerLipSearch, NotSearchedWhenNoneIsLost) {
   MouthDrawing m;
   m.draw({0, 1, 2}, false);
