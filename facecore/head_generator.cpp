@@ -23,6 +23,7 @@ constexpr double kLidH = 5.5;                       // half the eye opening: IRI
 constexpr double kLidHW = 12.5;                     // half the eye opening's width
 constexpr double kLidReach = 1.6 * kLidHW;          // reach of the eyelid cosine along x
 constexpr double kLidGap = 0.8;                     // eyelid skin in front of the eyeball
+constexpr double kUpperLidLead = 0.4;               // upper lid in front of the lower
 constexpr double kMouthY = -32.0, kMouthHW = 23.5;  // mouth line, inner corners at +-kMouthHW
 constexpr double kMouthOpen = 0.3;                  // neutral lips nearly touch: a dark line
 constexpr double kOuterCornerX = 25.5;
@@ -159,6 +160,9 @@ struct SkinShape {
     const double w = lid_blend(ax, y) * front;
     if (w > 0)
       p.z() = (1 - w) * p.z() + w * std::max(lid_wrap(ax), std::min(p.z(), lid_wrap(ax) + 3));
+    // The upper lid rides a little in front of the lower one, so that where a closing lid
+    // passes the other (toward the corners) it covers it instead of cutting through it.
+    if (w > 0 && y > kEyeY) p.z() += kUpperLidLead * w * smoothstep(0.0, 2.0, y - kEyeY);
     return p;
   }
 };
@@ -191,6 +195,7 @@ const Eigen::Vector3f kLipColour(0.72f, 0.36f, 0.36f);
 const Eigen::Vector3f kInnerLipColour(0.45f, 0.15f, 0.15f);
 const Eigen::Vector3f kBrowColour(0.24f, 0.15f, 0.09f);
 const Eigen::Vector3f kHairColour(0.20f, 0.13f, 0.08f);
+const Eigen::Vector3f kLashColour(0.10f, 0.07f, 0.05f);
 
 Eigen::Vector3f mix(const Eigen::Vector3f& a, const Eigen::Vector3f& b, double t) {
   return a + static_cast<float>(clamp01(t)) * (b - a);
@@ -435,6 +440,22 @@ FaceModel generate_head(const HeadOptions& options) {
         skin.vertices.push_back(lower);
       }
     }
+  // Lash lines along the lid margins, darkest on the upper lid, reaching 2 mm past the corners:
+  // an eye is read by its dark outline (dlib's landmarks put the corners of an eye without it
+  // on the iris, 10.5 % of the eye distance in), and a closed eye shows its lashes' line.
+  for (int c = 0; c < cols; ++c) {
+    const int v = skin.grid[static_cast<std::size_t>(skin.eye_row)][static_cast<std::size_t>(c)];
+    const V3 p = b.pos(v);
+    const double d = std::abs(std::abs(p.x()) - kEyeX);
+    if (std::cos(phi_of(c)) < 0.3 || d > kLidHW + 2.0) continue;
+    auto& colour = b.m.colors[static_cast<std::size_t>(v)];
+    colour = mix(colour, kLashColour, 0.85);
+    auto it = skin.lower.find({skin.eye_row, c});
+    if (it != skin.lower.end()) {
+      auto& below = b.m.colors[static_cast<std::size_t>(it->second)];
+      below = mix(below, kLashColour, 0.4);
+    }
+  }
   auto at = [&](int r, int c, bool below) {
     c = (c % cols + cols) % cols;
     if (below) {
@@ -535,7 +556,9 @@ FaceModel generate_head(const HeadOptions& options) {
       if (ring == 4) return mix(iris_in, iris_out, 0.5);
       if (ring <= 6) return ring == 6 ? limbus : iris_out;
       if (ring == 7) return mix(white, Eigen::Vector3f(0.8f, 0.78f, 0.75f), 0.5);
-      return white;
+      // The white darkens away from the iris, shaded by the lids toward the corners.
+      const double toward_lids = std::min(1.0, (static_cast<double>(ring) - 7.0) / 3.0);
+      return mix(white, Eigen::Vector3f(0.62f, 0.52f, 0.50f), toward_lids);
     };
     auto point = [&](double a, double t) {
       return V3(c.x() + kEyeR * std::sin(a) * std::cos(t),

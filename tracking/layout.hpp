@@ -5,7 +5,7 @@
 //     "dot": { "diameter_mm": 4, "polarity": "dark" | "bright" },
 //     "markers": [
 //       { "id": "brow_l_in", "type": "dot", "fp": "4.1", "position": [15, 52, -20] },
-//       { "id": "lid_l_up", "type": "dot", "fp": "3.1", "beside": [0, 3], ... },
+//       { "id": "lid_l_up", "type": "dot", "fp": "3.1", "beside": [0, 4], ... },
 //       { "type": "apriltag", "family": "tag36h11", "tag_id": 0, "size_mm": 20,
 //         "rigid": true, "position": [0, 92, -12], "rotation_deg": 0 } ] }
 // Positions are the markers' nominal neutral places in millimetres on a frontal face: origin

@@ -96,20 +96,24 @@ TEST(ActorCalibration, DotsBesideTheirPointsTakeThePriorsPlaceAndMotion) {
   const ActorPrior prior = load_actor_prior();
   if (!prior.head) GTEST_SKIP() << "the default head did not load: no prior head to test";
   auto layout = tracking::load_layout(data_file("layouts/default.json"));
-  // The inner eye corners painted on their points, the outer ones 3 mm out: the pupils, the
+  // The inner eye corners painted on their points, the outer ones beside: the pupils, the
   // corners' midpoints, move out unless each dot's offset is taken off.
   for (auto& m : layout.markers)
     if (m.id == "eye_l_in" || m.id == "eye_r_in") m.beside_mm.reset();
   const ActorCalibrationOptions o = actor_calibration_options(layout, prior, "a");
-  // The layout paints the upper lid dot 3 mm above the lid's midpoint: on the prior's skin
-  // there, moved by the upper lid's FAP about as much as the midpoint.
+  // The layout paints the upper lid dot a few mm above the lid's midpoint: on the prior's skin
+  // there, moved by the upper lid's FAP nearly as much as the midpoint, but less: the skin's
+  // own motion, not the point's.
   ASSERT_TRUE(o.beside.count("lid_l_up"));
   const PriorPlace& lid = o.beside.at("lid_l_up");
   const Eigen::Vector3d point = prior.points.at({3, 1});
   EXPECT_NEAR(lid.position.x(), point.x(), 1e-3);
-  EXPECT_NEAR(lid.position.y(), point.y() + 3, 1e-3);
+  const cv::Point2d beside = *layout.find("lid_l_up")->beside_mm;
+  EXPECT_NEAR(lid.position.y(), point.y() + beside.y, 1e-3);
   ASSERT_TRUE(lid.motion.count(19));
-  EXPECT_NEAR(lid.motion.at(19).y(), prior.motion.at({3, 1}).at(19).y(), 0.1);
+  const double share = lid.motion.at(19).y() / prior.motion.at({3, 1}).at(19).y();
+  EXPECT_GT(share, 0.8);
+  EXPECT_LT(share, 0.99);
 
   // A neutral view of the prior head wearing the layout: each dot at its own place.
   CameraIntrinsics camera;
@@ -141,7 +145,7 @@ TEST(ActorCalibration, DotsBesideTheirPointsTakeThePriorsPlaceAndMotion) {
   EXPECT_NEAR(p.fapu.mns0, truth.mns0, 0.01 * truth.mns0);
   EXPECT_NEAR(p.fapu.mw0, truth.mw0, 0.01 * truth.mw0);
   EXPECT_NEAR(p.fapu.irisd0, truth.irisd0, 0.01 * truth.irisd0);
-  // And the dot where it was painted, 3 mm above the point, at the actor's scale.
+  // And the dot where it was painted, above the point, at the actor's scale.
   const auto* dot = p.find_marker("lid_l_up");
   ASSERT_TRUE(dot && dot->position);
   EXPECT_NEAR(dot->position->y() - p.find_marker("eye_l_in")->position->y(),
