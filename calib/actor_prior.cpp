@@ -129,9 +129,8 @@ ActorCalibrationOptions actor_calibration_options(const tracking::MarkerLayout& 
     if (is_feature_point(m.feature_point)) fp = m.feature_point;
     nominal.push_back({m.id, fp, {m.position_mm.x, m.position_mm.y, m.position_mm.z}});
     if (m.rigid) o.rigid_markers.insert(m.id);
-    const bool on_lid =
-        m.feature_point.group == 3 && m.feature_point.index >= 1 && m.feature_point.index <= 4;
-    if (on_lid && m.kind == tracking::MarkerKind::Dot) o.lid_markers_on_margin = false;
+    if (is_eyelid_midpoint(m.feature_point) && m.kind == tracking::MarkerKind::Dot)
+      o.lid_markers_on_margin = false;
     if (m.beside_mm && fp)
       if (auto place = place_beside(prior, *fp, {m.beside_mm->x, m.beside_mm->y}))
         o.beside[m.id] = *place;

@@ -109,6 +109,10 @@ std::span<const FeaturePointInfo> feature_point_table() {
   return kPoints;
 }
 
+bool is_eyelid_midpoint(FeaturePointId id) {
+  return id.group == 3 && id.index >= 1 && id.index <= 4;
+}
+
 bool is_feature_point(FeaturePointId id) {
   for (const FeaturePointInfo& p : kPoints)
     if (p.id == id) return true;

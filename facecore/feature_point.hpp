@@ -32,6 +32,9 @@ bool is_feature_point(FeaturePointId id);
 // Parses "3.5"; nullopt for text that is not one of the 84 points.
 std::optional<FeaturePointId> parse_feature_point(std::string_view text);
 
+// MPEG-4 3.1-3.4: the midpoints of the upper and lower eyelids' margins (odd: the left eye).
+bool is_eyelid_midpoint(FeaturePointId id);
+
 // The face-symmetric twin ("3.5" <-> "3.6"), or the point itself on the mid-line.
 FeaturePointId mirror(FeaturePointId id);
 

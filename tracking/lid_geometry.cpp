@@ -40,7 +40,7 @@ bool is_eye_point(const FeaturePointId& fp) {
 }
 
 bool is_lid_point(const FeaturePointId& fp) {
-  return fp.group == 3 && fp.index >= 1 && fp.index <= 4;
+  return is_eyelid_midpoint(fp);
 }
 
 bool is_inner_eye_corner(const FeaturePointId& fp) {
