@@ -194,6 +194,10 @@ void FaceModel::validate(const std::string& source) const {
     for (int k = 0; k < 3; ++k) check_index(t[k], "triangle");
   if (!colors.empty() && colors.size() != positions.size())
     reader.fail("colour count differs from the vertex count");
+  if (!texcoords.empty() && texcoords.size() != positions.size())
+    reader.fail("texture coordinate count differs from the vertex count");
+  if (!texcoords.empty() && texture.empty())
+    reader.fail("the mesh has texture coordinates but the model no texture");
   for (const auto& [id, v] : feature_points) check_index(v, "feature point " + id.str());
   for (const InfluenceRegion& r : regions) {
     const std::string ctx = "region '" + r.name + "'";
@@ -233,6 +237,14 @@ FaceModel load_face_model(const std::filesystem::path& description) {
   ObjMesh mesh = read_obj(description.parent_path() / j["mesh"].get<std::string>());
   model.positions = std::move(mesh.positions);
   model.colors = std::move(mesh.colors);
+  model.texcoords = std::move(mesh.texcoords);
+  if (j.contains("texture")) {
+    if (!j["texture"].is_string())
+      reader.fail("'texture' (the image's file name) must be a string");
+    model.texture = read_texture(description.parent_path() / j["texture"].get<std::string>());
+  } else {
+    model.texcoords.clear();  // coordinates into no image: the colours stand
+  }
   model.triangles = std::move(mesh.triangles);
   model.materials = std::move(mesh.materials);
   model.triangle_materials = std::move(mesh.triangle_materials);
@@ -281,14 +293,18 @@ FaceModel load_default_face_model() {
 void save_face_model(const FaceModel& model, const std::filesystem::path& dir,
                      const std::string& stem) {
   std::filesystem::create_directories(dir);
-  ObjMesh mesh{model.positions, model.colors, model.triangles, model.materials,
-               model.triangle_materials};
+  const bool textured = !model.texture.empty() && model.texcoords.size() == model.positions.size();
+  ObjMesh mesh{
+      model.positions, model.colors,    textured ? model.texcoords : std::vector<Eigen::Vector2f>{},
+      model.triangles, model.materials, model.triangle_materials};
+  if (textured) write_texture(model.texture, dir / (stem + ".png"));
   write_obj(mesh, dir / (stem + ".obj"));
 
   json j;
   j["format"] = kFormat;
   j["name"] = model.name;
   j["mesh"] = stem + ".obj";
+  if (textured) j["texture"] = stem + ".png";
   j["units"] = "mm";
   json points = json::object();
   for (const auto& [id, v] : model.feature_points) points[id.str()] = v;

@@ -12,6 +12,7 @@
 
 #include "facecore/fapu.hpp"
 #include "facecore/feature_point.hpp"
+#include "facecore/texture.hpp"
 
 namespace rostro {
 
@@ -61,9 +62,15 @@ struct RigidParts {
 
 struct FaceModel {
   std::string name;
-  std::vector<Eigen::Vector3f> positions;        // neutral mesh, model units (mm)
-  std::vector<Eigen::Vector3i> triangles;        // counter-clockwise seen from outside
-  std::vector<Eigen::Vector3f> colors;           // per vertex, linear 0..1 (empty: none)
+  std::vector<Eigen::Vector3f> positions;  // neutral mesh, model units (mm)
+  std::vector<Eigen::Vector3i> triangles;  // counter-clockwise seen from outside
+  std::vector<Eigen::Vector3f> colors;     // per vertex, linear 0..1 (empty: none)
+  // Where each vertex samples `texture` (u, v in 0..1, v up; u wraps around, so a triangle
+  // across u = 0 takes the short way). Empty: no texture; a vertex with non-finite coordinates
+  // is not textured and shows its colour. A textured vertex's colour is the texture's there,
+  // for renderers without textures.
+  std::vector<Eigen::Vector2f> texcoords;
+  Texture texture;
   std::vector<std::string> materials;            // material names ("skin", "iris", ...)
   std::vector<int> triangle_materials;           // per triangle index into materials
   std::map<FeaturePointId, int> feature_points;  // feature point -> vertex

@@ -32,6 +32,12 @@ RenderMesh to_render_mesh(const FaceModel& model) {
                                    : kSkin[static_cast<std::size_t>(k)]);
     }
   }
+  if (!model.texture.empty() && model.texcoords.size() == model.positions.size()) {
+    mesh.texture = model.texture;
+    mesh.texcoords.reserve(2 * model.texcoords.size());
+    for (const Eigen::Vector2f& uv : model.texcoords)
+      mesh.texcoords.insert(mesh.texcoords.end(), {uv.x(), uv.y()});
+  }
   mesh.triangles.reserve(3 * model.triangles.size());
   for (const Eigen::Vector3i& t : model.triangles) {
     mesh.triangles.insert(mesh.triangles.end(),

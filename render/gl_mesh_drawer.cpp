@@ -1,5 +1,7 @@
 #include "render/gl_mesh_drawer.hpp"
 
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -13,16 +15,19 @@ constexpr const char* kVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec3 in_color;
+layout(location = 3) in vec4 in_texcoord;  // cos 2 pi u, sin 2 pi u, t, 1 where textured
 uniform mat4 u_view;
 uniform mat4 u_projection;
 out vec3 v_position;  // view space
 out vec3 v_normal;    // view space
 out vec3 v_color;
+out vec4 v_texcoord;
 void main() {
   vec4 p = u_view * vec4(in_position, 1.0);
   v_position = p.xyz;
   v_normal = mat3(u_view) * in_normal;  // the view is a rigid motion: no inverse-transpose
   v_color = in_color;
+  v_texcoord = in_texcoord;
   gl_Position = u_projection * p;
 }
 )";
@@ -34,6 +39,8 @@ constexpr const char* kFragmentShader = R"(#version 330 core
 in vec3 v_position;
 in vec3 v_normal;
 in vec3 v_color;
+in vec4 v_texcoord;
+uniform sampler2D u_texture;
 uniform float u_ambient;
 uniform float u_key;
 uniform float u_fill;
@@ -51,7 +58,12 @@ void main() {
   float fill = max(dot(n, fill_dir), 0.0);
   vec3 h = normalize(key_dir + view_dir);
   float spec = pow(max(dot(n, h), 0.0), u_shininess) * step(0.0, dot(n, key_dir));
-  vec3 c = v_color * (u_ambient + u_key * key + u_fill * fill) + vec3(u_specular * spec);
+  vec2 uv = vec2(atan(v_texcoord.y, v_texcoord.x) / 6.28318531, v_texcoord.z);
+  vec2 du = dFdx(uv), dv = dFdy(uv);
+  du.x -= round(du.x);
+  dv.x -= round(dv.x);
+  vec3 albedo = mix(v_color, textureGrad(u_texture, uv, du, dv).rgb, clamp(v_texcoord.w, 0.0, 1.0));
+  vec3 c = albedo * (u_ambient + u_key * key + u_fill * fill) + vec3(u_specular * spec);
   out_color = vec4(min(c, vec3(1.0)), 1.0);
 }
 )";
@@ -94,12 +106,13 @@ GlMeshDrawer::GlMeshDrawer() {
     glDeleteProgram(program_);
     throw RenderUnavailable(std::string("OpenGL program does not link: ") + log);
   }
-  GLuint buffers[4];
-  glGenBuffers(4, buffers);
+  GLuint buffers[5];
+  glGenBuffers(5, buffers);
   position_buffer_ = buffers[0];
   normal_buffer_ = buffers[1];
   color_buffer_ = buffers[2];
   index_buffer_ = buffers[3];
+  texcoord_buffer_ = buffers[4];
   glGenVertexArrays(1, &vao_);
   glBindVertexArray(vao_);
   const GLuint per_attribute[3] = {position_buffer_, normal_buffer_, color_buffer_};
@@ -108,13 +121,19 @@ GlMeshDrawer::GlMeshDrawer() {
     glEnableVertexAttribArray(location);
     glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   }
+  glBindBuffer(GL_ARRAY_BUFFER, texcoord_buffer_);
+  glEnableVertexAttribArray(3);
+  glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
   glBindVertexArray(0);
+  glGenTextures(1, &texture_);
 }
 
 GlMeshDrawer::~GlMeshDrawer() {
-  const GLuint buffers[4] = {position_buffer_, normal_buffer_, color_buffer_, index_buffer_};
-  glDeleteBuffers(4, buffers);
+  const GLuint buffers[5] = {position_buffer_, normal_buffer_, color_buffer_, index_buffer_,
+                             texcoord_buffer_};
+  glDeleteBuffers(5, buffers);
+  glDeleteTextures(1, &texture_);
   glDeleteVertexArrays(1, &vao_);
   glDeleteProgram(program_);
 }
@@ -128,6 +147,7 @@ void GlMeshDrawer::set_mesh(const RenderMesh& mesh) {
   glBindBuffer(GL_ARRAY_BUFFER, color_buffer_);
   glBufferData(GL_ARRAY_BUFFER, bytes(mesh.colors.size(), sizeof(float)), mesh.colors.data(),
                GL_STATIC_DRAW);
+  upload_texture(mesh);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, bytes(index_count_, sizeof(std::uint32_t)),
                mesh.triangles.data(), GL_STATIC_DRAW);
@@ -140,6 +160,36 @@ void GlMeshDrawer::set_mesh(const RenderMesh& mesh) {
   glBindVertexArray(0);
   update_positions(mesh.positions);
   bounds_ = bounds_of(mesh.positions);
+}
+
+void GlMeshDrawer::upload_texture(const RenderMesh& mesh) {
+  // Per vertex: u as a point on the unit circle, t (the image's rows run down), textured or not.
+  std::vector<float> texcoords(4 * vertex_count_, 0.0f);
+  const bool textured = !mesh.texcoords.empty();
+  for (std::size_t v = 0; textured && v < vertex_count_; ++v) {
+    const float u = mesh.texcoords[2 * v], t = mesh.texcoords[2 * v + 1];
+    if (!std::isfinite(u) || !std::isfinite(t)) continue;
+    const float angle = 2.0f * std::numbers::pi_v<float> * u;
+    texcoords[4 * v] = std::cos(angle);
+    texcoords[4 * v + 1] = std::sin(angle);
+    texcoords[4 * v + 2] = 1.0f - t;
+    texcoords[4 * v + 3] = 1.0f;
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, texcoord_buffer_);
+  glBufferData(GL_ARRAY_BUFFER, bytes(texcoords.size(), sizeof(float)), texcoords.data(),
+               GL_STATIC_DRAW);
+  const std::uint8_t white[3] = {255, 255, 255};
+  glBindTexture(GL_TEXTURE_2D, texture_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, textured ? mesh.texture.width : 1,
+               textured ? mesh.texture.height : 1, 0, GL_RGB, GL_UNSIGNED_BYTE,
+               textured ? mesh.texture.rgb.data() : white);
+  glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glBindTexture(GL_TEXTURE_2D, 0);
 }
 
 void GlMeshDrawer::update_positions(std::span<const float> positions) {
@@ -178,9 +228,13 @@ void GlMeshDrawer::draw(const CameraMatrices& camera, int width, int height, con
   glUniform1f(glGetUniformLocation(program_, "u_fill"), shading.fill);
   glUniform1f(glGetUniformLocation(program_, "u_specular"), shading.specular);
   glUniform1f(glGetUniformLocation(program_, "u_shininess"), shading.shininess);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, texture_);
+  glUniform1i(glGetUniformLocation(program_, "u_texture"), 0);
   glBindVertexArray(vao_);
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(index_count_), GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
+  glBindTexture(GL_TEXTURE_2D, 0);
   glUseProgram(0);
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // The drawing code both back ends share (offscreen EGL and the GLFW window): shaders for
-// per-vertex-colour skin shading, the mesh's GPU buffers, and one draw call per frame. Every
-// method needs a current OpenGL 3.3 core context; the owner makes it current first.
+// skin shading of per-vertex colours or a texture, the mesh's GPU buffers, and one draw call per
+// frame. Every method needs a current OpenGL 3.3 core context; the owner makes it current first.
 
 #include <array>
 #include <cstdint>
@@ -29,7 +29,7 @@ class GlMeshDrawer {
   GlMeshDrawer(const GlMeshDrawer&) = delete;
   GlMeshDrawer& operator=(const GlMeshDrawer&) = delete;
 
-  // Uploads topology, colours and positions; throws std::invalid_argument for a bad mesh.
+  // Uploads topology, colours, texture and positions; throws std::invalid_argument for a bad mesh.
   void set_mesh(const RenderMesh& mesh);
   // New positions for the same vertices (x, y, z each); normals are recomputed.
   void update_positions(std::span<const float> positions);
@@ -42,12 +42,16 @@ class GlMeshDrawer {
   std::size_t vertex_count() const { return vertex_count_; }
 
  private:
+  void upload_texture(const RenderMesh& mesh);  // a white texel when the mesh has none
+
   unsigned program_ = 0;
   unsigned vao_ = 0;
   unsigned position_buffer_ = 0;
   unsigned normal_buffer_ = 0;
   unsigned color_buffer_ = 0;
   unsigned index_buffer_ = 0;
+  unsigned texcoord_buffer_ = 0;
+  unsigned texture_ = 0;
   std::size_t vertex_count_ = 0;
   std::size_t index_count_ = 0;
   std::vector<std::uint32_t> triangles_;

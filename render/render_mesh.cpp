@@ -25,6 +25,17 @@ void validate(const RenderMesh& mesh) {
                                 " colours for " + std::to_string(mesh.vertex_count()) +
                                 " vertices");
   }
+  if (!mesh.texcoords.empty() && mesh.texcoords.size() != 2 * mesh.vertex_count()) {
+    throw std::invalid_argument("render mesh: " + std::to_string(mesh.texcoords.size() / 2) +
+                                " texture coordinates for " + std::to_string(mesh.vertex_count()) +
+                                " vertices");
+  }
+  if (!mesh.texcoords.empty() &&
+      (mesh.texture.width <= 0 || mesh.texture.height <= 0 ||
+       mesh.texture.rgb.size() != 3 * static_cast<std::size_t>(mesh.texture.width) *
+                                      static_cast<std::size_t>(mesh.texture.height))) {
+    throw std::invalid_argument("render mesh: texture coordinates without a whole RGB texture");
+  }
   if (mesh.triangles.size() % 3 != 0) {
     throw std::invalid_argument("render mesh: triangle index count is not a multiple of 3");
   }

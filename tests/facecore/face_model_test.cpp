@@ -11,6 +11,7 @@
 
 #include "facecore/error.hpp"
 #include "facecore/head_generator.hpp"
+#include "facecore/texture.hpp"
 
 namespace rostro {
 namespace {
@@ -133,6 +134,30 @@ TEST_F(FaceModelFiles, GeneratedHeadRoundTripsThroughObjAndJson) {
   }
   EXPECT_EQ(a.parts.left_eyeball.vertices, b.parts.left_eyeball.vertices);
   EXPECT_NEAR(a.fapu.mw0, b.fapu.mw0, 1e-3);
+}
+
+TEST_F(FaceModelFiles, TextureNamedButMissingOrBrokenIsOneClearError) {
+  description_["texture"] = "face.png";
+  std::ofstream(dir_ / "face.obj") << "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\n"
+                                      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                      "usemtl skin\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
+  EXPECT_NE(error_of(description_).find("face.png: the texture image does not exist"),
+            std::string::npos);
+  std::ofstream(dir_ / "face.png") << "not a png";
+  EXPECT_NE(error_of(description_).find("face.png: the texture is not an image"),
+            std::string::npos);
+  Texture t;
+  t.width = t.height = 2;
+  t.rgb.assign(12, 200);
+  write_texture(t, dir_ / "face.png");
+  const FaceModel m = load_face_model(write(description_));
+  ASSERT_EQ(m.texcoords.size(), 4u);
+  EXPECT_EQ(m.texcoords[3], Eigen::Vector2f(0, 1));
+  EXPECT_EQ(m.texcoords[2], Eigen::Vector2f(0, 1));  // u = 1 is u = 0: u wraps around
+  EXPECT_EQ(m.texture.width, 2);
+  // Without "texture" the coordinates point into nothing and are dropped.
+  description_.erase("texture");
+  EXPECT_TRUE(load_face_model(write(description_)).texcoords.empty());
 }
 
 TEST(DefaultHead, LoadsFromData) {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -116,6 +118,56 @@ TEST(OffscreenRenderer, ResizeChangesTheOutputSize) {
   EXPECT_EQ(image.cols, 101);
   EXPECT_EQ(image.rows, 77);
   EXPECT_GT(covered_fraction(image, cv::Rect(45, 33, 10, 10), options.shading), 0.99);
+}
+
+TEST(OffscreenRenderer, TexturedVerticesShowTheTextureTheShortWayAcrossItsSeam) {
+  RenderOptions options;
+  options.width = 200;
+  options.height = 200;
+  MAKE_RENDERER_OR_SKIP(renderer, options);
+  // u runs around the ellipsoid from its front (phi = 0, where the texture's seam is): red on
+  // the subject's left (u < 0.45, image right), blue on the right, a green band at the back.
+  // A triangle across the seam that went the long way round would paint the front green.
+  RenderMesh mesh =
+      testing::make_ellipsoid(1.0f, 1.0f, 1.0f, 24, 32, {0.9f, 0.9f, 0.9f}, {0.9f, 0.9f, 0.9f});
+  const int segments = 32;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const auto s = static_cast<float>(v % static_cast<std::size_t>(segments));
+    const bool lower_quarter = mesh.positions[3 * v + 1] < -0.7f;  // untextured: its colour
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    mesh.texcoords.push_back(lower_quarter ? nan : s / segments);
+    mesh.texcoords.push_back(lower_quarter ? nan : 0.5f);
+  }
+  mesh.texture.width = 64;
+  mesh.texture.height = 4;
+  for (int row = 0; row < 4; ++row)
+    for (int x = 0; x < 64; ++x) {
+      const double u = (x + 0.5) / 64;
+      const bool green = u > 0.45 && u < 0.55;
+      mesh.texture.rgb.insert(mesh.texture.rgb.end(), {std::uint8_t(!green && u < 0.5 ? 230 : 0),
+                                                       std::uint8_t(green ? 230 : 0),
+                                                       std::uint8_t(!green && u >= 0.5 ? 230 : 0)});
+    }
+  renderer->set_mesh(mesh);
+  const cv::Mat image = renderer->render(CameraPose::front());
+  const cv::Vec3b right = image.at<cv::Vec3b>(100, 140), left = image.at<cv::Vec3b>(100, 60);
+  EXPECT_GT(right[2], right[0] + 50) << "the subject's left (image right) should be red";
+  EXPECT_GT(left[0], left[2] + 50) << "the subject's right (image left) should be blue";
+  int green = 0;
+  for (int y = 20; y < 150; ++y)
+    for (int x = 20; x < 180; ++x) {
+      const cv::Vec3b p = image.at<cv::Vec3b>(y, x);
+      if (p[1] > p[0] + 30 && p[1] > p[2] + 30) ++green;
+    }
+  EXPECT_EQ(green, 0) << "the seam's triangles went the long way round the texture";
+  // The untextured bottom shows its vertex colour: light grey, not red or blue.
+  const cv::Vec3b bottom = image.at<cv::Vec3b>(165, 100);
+  EXPECT_LT(std::abs(bottom[0] - bottom[2]), 12);
+  EXPECT_LT(std::abs(bottom[1] - bottom[2]), 12);
+  EXPECT_GT(bottom[1], 60);
+  // Coordinates without a texture are a bad mesh.
+  mesh.texture = {};
+  EXPECT_THROW(renderer->set_mesh(mesh), std::invalid_argument);
 }
 
 TEST(OffscreenRenderer, RejectsABadMesh) {
