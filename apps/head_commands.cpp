@@ -12,8 +12,9 @@ namespace rostro::app {
 void add_head_commands(CLI::App& app) {
   auto* head = app.add_subcommand(
       "head",
-      "Generate rostro's procedural head: <dir>/head.obj (with vertex colours) and "
-      "<dir>/head.json (feature points, influence regions, rigid parts)");
+      "Generate rostro's procedural head: <dir>/head.obj (texture coordinates, vertex colours), "
+      "<dir>/head.png (the skin's texture) and <dir>/head.json (feature points, influence "
+      "regions, rigid parts)");
   head->footer(
       "The default head in data/head/ was made with the first example.\n\n"
       "Example:\n"
@@ -28,9 +29,9 @@ void add_head_commands(CLI::App& app) {
     const FaceModel model = generate_head(HeadOptions{*vertices});
     save_face_model(model, *dir, "head");
     std::printf(
-        "%s/head.obj, %s/head.json: %zu vertices, %zu triangles, %zu feature points, "
-        "%zu regions\n",
-        dir->c_str(), dir->c_str(), model.positions.size(), model.triangles.size(),
+        "%s/head.obj, %s/head.png, %s/head.json: %zu vertices, %zu triangles, %zu feature "
+        "points, %zu regions\n",
+        dir->c_str(), dir->c_str(), dir->c_str(), model.positions.size(), model.triangles.size(),
         model.feature_points.size(), model.regions.size());
   });
 }

@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <string>
 
 #include "facecore/error.hpp"
+#include "facecore/texture_bake.hpp"
 
 namespace rostro {
 namespace {
@@ -17,15 +19,18 @@ using V3 = Eigen::Vector3d;
 constexpr double kPi = std::numbers::pi;
 
 // Layout of the head in millimetres, MPEG-4 frame: x toward the face's left, y up, z out.
-constexpr double kEyeX = 32.0, kEyeY = 30.0;        // left pupil centre (x, y)
-constexpr double kEyeR = 12.5;                      // eyeball radius
-constexpr double kLidH = 5.5;                       // half the eye opening: IRISD0 = 2 x this
-constexpr double kLidHW = 12.5;                     // half the eye opening's width
-constexpr double kLidReach = 1.6 * kLidHW;          // reach of the eyelid cosine along x
-constexpr double kLidGap = 0.8;                     // eyelid skin in front of the eyeball
-constexpr double kUpperLidLead = 0.4;               // upper lid in front of the lower
-constexpr double kMouthY = -32.0, kMouthHW = 23.5;  // mouth line, inner corners at +-kMouthHW
-constexpr double kMouthOpen = 0.3;                  // neutral lips nearly touch: a dark line
+constexpr double kEyeX = 32.0, kEyeY = 30.0;  // left pupil centre (x, y)
+constexpr double kEyeR = 12.5;                // eyeball radius
+constexpr double kLidH = 5.5;                 // half the eye opening: IRISD0 = 2 x this
+constexpr double kLidHW = 12.5;               // half the eye opening's width
+constexpr double kLidReach = 1.6 * kLidHW;    // reach of the eyelid cosine along x
+constexpr double kLidGap = 0.8;               // eyelid skin in front of the eyeball
+constexpr double kUpperLidLead = 0.4;         // upper lid in front of the lower
+constexpr double kLashWidth = 1.0;
+constexpr double kBrowInnerX = 15.0, kBrowMidX = 31.5, kBrowOuterX = 47.0;  // 4.1, 4.3, 4.5
+constexpr double kBrowInner = 6.0, kBrowOuter = 3.0;  // the brow's height at its ends
+constexpr double kMouthY = -32.0, kMouthHW = 23.5;    // mouth line, inner corners at +-kMouthHW
+constexpr double kMouthOpen = 0.3;                    // neutral lips nearly touch: a dark line
 constexpr double kOuterCornerX = 25.5;
 constexpr double kCapY = 60.0, kCrownY = 122.0, kNeckY = -150.0;
 constexpr double kEarY = 19.0;  // the ears' centre height
@@ -167,6 +172,16 @@ struct SkinShape {
   }
 };
 
+constexpr float kUntextured = std::numeric_limits<float>::quiet_NaN();
+// The skin's texture: u around the head from the back (phi = -pi), v up from the neck's foot to
+// the crown, by the row a vertex was made on (a slit's two copies share theirs, so the lid and
+// lip margins are lines in the texture). 2048 x 1024 texels: about 0.25 mm each.
+constexpr int kTextureWidth = 2048, kTextureHeight = 1024;
+Eigen::Vector2f skin_texcoord(double phi, double row_y) {
+  return {static_cast<float>((phi + kPi) / (2 * kPi)),
+          static_cast<float>((row_y - kNeckY) / (kCrownY - kNeckY))};
+}
+
 // Mesh under construction, with a tag per vertex saying which side of a slit it lies on.
 struct Builder {
   FaceModel m;
@@ -174,6 +189,7 @@ struct Builder {
   int add(const V3& p, const Eigen::Vector3f& colour, Side s = Side::None) {
     m.positions.push_back(p.cast<float>());
     m.colors.push_back(colour);
+    m.texcoords.emplace_back(kUntextured, kUntextured);
     side.push_back(s);
     return static_cast<int>(m.positions.size()) - 1;
   }
@@ -207,7 +223,9 @@ double hairline(double phi) {
   return curve(k, std::abs(phi));
 }
 
-double brow_centre_y(double ax) {
+// The eyebrow's upper edge at |x| = ax. MPEG-4's 4.1, 4.3 and 4.5 lie on it: the inner end, the
+// uppermost point and the outer end of the brow, which hangs below it.
+double brow_top_y(double ax) {
   return 44.0 +
          5.0 * std::pow(std::max(0.0, std::sin(kPi * std::clamp(ax - 13, 0.0, 38.0) / 38)), 0.8);
 }
@@ -216,15 +234,21 @@ Eigen::Vector3f skin_colour(const V3& p, double phi, double shape_y) {
   const double ax = std::abs(p.x()), y = p.y();
   Eigen::Vector3f c = kSkinColour;
   c = mix(c, Eigen::Vector3f(0.88f, 0.58f, 0.50f), 0.35 * gauss(std::hypot(ax - 42, y + 6), 14));
-  // Nostrils.
-  c = mix(c, Eigen::Vector3f(0.35f, 0.18f, 0.15f),
-          gauss(std::hypot(ax - 6.5, (y + 8.5) * 1.6), 3.0));
-  // Eyebrows: a band along the brow curve, thick inside, thin outside.
-  if (ax > 12 && ax < 52 && p.z() > 40) {
-    const double thick = 5.0 - 2.8 * (ax - 12) / 40;
-    const double d = std::abs(y - brow_centre_y(ax)) / (thick / 2);
+  // Nostrils: dark openings with a soft shadow around them.
+  const double nostril = std::hypot((ax - 6.8) / 3.4, (y + 8.8) / 2.0);
+  c = mix(c, Eigen::Vector3f(0.45f, 0.25f, 0.2f), 0.7 * gauss(nostril, 1.3));
+  c = mix(c, Eigen::Vector3f(0.25f, 0.12f, 0.1f), 0.9 * smoothstep(1.2, 0.5, nostril));
+  // Eyebrows: a band hanging from the brow's upper edge between its inner and outer ends,
+  // thick inside, thin outside, in fine strokes of hair slanting up and out.
+  if (ax > kBrowInnerX - 2 && ax < kBrowOuterX + 2 && p.z() > 40) {
+    const double thick =
+        kBrowInner - (kBrowInner - kBrowOuter) * (ax - kBrowInnerX) / (kBrowOuterX - kBrowInnerX);
+    const double d = std::abs(y - (brow_top_y(ax) - thick / 2)) / (thick / 2);
+    const double hairs = 0.8 + 0.2 * std::sin(2 * kPi * (ax + 0.6 * y) / 0.9);
     c = mix(c, kBrowColour,
-            (1 - smoothstep(0.7, 1.15, d)) * smoothstep(12, 15, ax) * smoothstep(52, 48, ax));
+            hairs * (1 - smoothstep(0.6, 1.05, d)) *
+                smoothstep(kBrowInnerX - 1.5, kBrowInnerX + 0.5, ax) *
+                smoothstep(kBrowOuterX + 1.5, kBrowOuterX - 0.5, ax));
   }
   // Lips, from the outer contour to the mouth line.
   if (ax < kOuterCornerX + 1 && p.z() > 60) {
@@ -235,8 +259,11 @@ Eigen::Vector3f skin_colour(const V3& p, double phi, double shape_y) {
       inside = smoothstep(0.6, -0.6, kMouthY - y - lower_lip_height(ax));
     c = mix(c, kLipColour, inside * smoothstep(kOuterCornerX + 1, kOuterCornerX - 2, ax));
   }
-  // Hair over the skull.
-  c = mix(c, kHairColour, smoothstep(-2, 3, shape_y - hairline(phi)));
+  // Hair over the skull, in strands combed back from the hairline: a fine ripple across them.
+  const double strands = 0.85 + 0.15 * std::sin(2 * kPi * phi * 70.0 + 0.08 * shape_y) *
+                                    std::sin(2 * kPi * phi * 23.0);
+  c = mix(c, kHairColour * static_cast<float>(strands),
+          smoothstep(-1.5, 1.5, shape_y - hairline(phi)));
   return c;
 }
 
@@ -329,6 +356,52 @@ struct Skin {
   std::vector<int> vertices;                    // all skin vertices
 };
 
+// The eye's outline painted on the skin around it, at a point of the skin's texture: the lash
+// lines along the lid margins (darkest and widest toward the outer corner of the upper lid,
+// reaching 2 mm past the corners). An eye is read by its dark outline
+// (dlib's landmarks put the corners of an eye without it on the iris), and a closed eye shows
+// its lashes' line. `row_y` is the texture's height (the margins lie at kEyeY).
+Eigen::Vector3f eye_outline(const SkinShape& shape, double phi, double row_y,
+                            const Eigen::Vector3f& c) {
+  if (std::cos(phi) < 0.3) return c;
+  const double signed_d = std::abs(shape.base(kEyeY, phi, 1.0, kEyeY).x()) - kEyeX;  // + outward
+  const double d = std::abs(signed_d);
+  if (d > kLidHW + 3.0) return c;
+  const double opening = kLidH * eye_aperture(d);
+  // Rows near the eye line were moved apart by the opening: a row's height above the margin,
+  // in mm of skin, is its height in the texture less that share.
+  const double dist = std::abs(row_y - kEyeY) * (1.0 - opening / 13.0);
+  const bool upper = row_y >= kEyeY;
+  const double outward = smoothstep(-kLidHW, kLidHW, signed_d);
+  const double width = upper ? kLashWidth * (0.7 + 0.6 * outward) : 0.6;
+  const double strength = upper ? 0.9 : 0.4;
+  const double along = smoothstep(kLidHW + 2.0, kLidHW, d);
+  return mix(c, kLashColour, strength * along * smoothstep(width, 0.6 * width, dist));
+}
+
+// Bakes the skin's colours (skin_colour and the lash lines) into the model's texture, and gives
+// each textured vertex the texture's colour at its coordinates.
+void paint_skin(FaceModel& m, const SkinShape& shape) {
+  std::vector<int> skin_triangles;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    if (m.triangle_materials[t] != kSkin) continue;
+    const Eigen::Vector3i& tr = m.triangles[t];
+    if (m.texcoords[static_cast<std::size_t>(tr[0])].allFinite() &&
+        m.texcoords[static_cast<std::size_t>(tr[1])].allFinite() &&
+        m.texcoords[static_cast<std::size_t>(tr[2])].allFinite())
+      skin_triangles.push_back(static_cast<int>(t));
+  }
+  m.texture =
+      bake_texture(m, skin_triangles, kTextureWidth, kTextureHeight, [&](const TexelPoint& t) {
+        double phi = t.uv.x() * 2 * kPi - kPi;
+        if (phi >= kPi) phi -= 2 * kPi;
+        const double row_y = kNeckY + t.uv.y() * (kCrownY - kNeckY);
+        return eye_outline(shape, phi, row_y, skin_colour(t.position, phi, t.position.y()));
+      });
+  for (std::size_t v = 0; v < m.positions.size(); ++v)
+    if (m.texcoords[v].allFinite()) m.colors[v] = sample_texture(m.texture, m.texcoords[v]);
+}
+
 }  // namespace
 
 FaceModel generate_head(const HeadOptions& options) {
@@ -412,7 +485,9 @@ FaceModel generate_head(const HeadOptions& options) {
       }
     }
     const V3 p = cap ? shape.base(y, phi, row.s, kCapY) : shape.surface(y, phi, 1.0, y);
-    return b.add(p, skin_colour(p, phi, cap ? row.y : y), side);
+    const int v = b.add(p, skin_colour(p, phi, cap ? row.y : y), side);
+    b.m.texcoords[static_cast<std::size_t>(v)] = skin_texcoord(phi, row.y);
+    return v;
   };
 
   const int pole = b.add(V3(0, kCrownY, curve(kCentreZ, kCapY)), kHairColour);
@@ -440,22 +515,6 @@ FaceModel generate_head(const HeadOptions& options) {
         skin.vertices.push_back(lower);
       }
     }
-  // Lash lines along the lid margins, darkest on the upper lid, reaching 2 mm past the corners:
-  // an eye is read by its dark outline (dlib's landmarks put the corners of an eye without it
-  // on the iris, 10.5 % of the eye distance in), and a closed eye shows its lashes' line.
-  for (int c = 0; c < cols; ++c) {
-    const int v = skin.grid[static_cast<std::size_t>(skin.eye_row)][static_cast<std::size_t>(c)];
-    const V3 p = b.pos(v);
-    const double d = std::abs(std::abs(p.x()) - kEyeX);
-    if (std::cos(phi_of(c)) < 0.3 || d > kLidHW + 2.0) continue;
-    auto& colour = b.m.colors[static_cast<std::size_t>(v)];
-    colour = mix(colour, kLashColour, 0.85);
-    auto it = skin.lower.find({skin.eye_row, c});
-    if (it != skin.lower.end()) {
-      auto& below = b.m.colors[static_cast<std::size_t>(it->second)];
-      below = mix(below, kLashColour, 0.4);
-    }
-  }
   auto at = [&](int r, int c, bool below) {
     c = (c % cols + cols) % cols;
     if (below) {
@@ -757,9 +816,9 @@ FaceModel generate_head(const HeadOptions& options) {
                        [&](int v) { return b.pos(v).y() < kEyeY - kLidH - 1; });
   fp[{3, 13}] = nearest(front_skin, V3(eye_col_x, kEyeY + kLidH + 3, 0), xy,
                         [&](int v) { return b.pos(v).y() > kEyeY + kLidH + 1; });
-  fp[{4, 1}] = nearest(front_skin, V3(15, brow_centre_y(15), 0), xy);
-  fp[{4, 3}] = nearest(front_skin, V3(31.5, brow_centre_y(31.5), 0), xy);
-  fp[{4, 5}] = nearest(front_skin, V3(47, brow_centre_y(47), 0), xy);
+  fp[{4, 1}] = nearest(front_skin, V3(kBrowInnerX, brow_top_y(kBrowInnerX), 0), xy);
+  fp[{4, 3}] = nearest(front_skin, V3(kBrowMidX, brow_top_y(kBrowMidX), 0), xy);
+  fp[{4, 5}] = nearest(front_skin, V3(kBrowOuterX, brow_top_y(kBrowOuterX), 0), xy);
   fp[{5, 1}] = nearest(front_skin, V3(44, -14, 0), xy);
   fp[{5, 3}] = nearest(front_skin, V3(41, 8, 0), xy);
   fp[{9, 1}] = nearest(front_skin, V3(12.5, -5, 0), xy);
@@ -1032,6 +1091,7 @@ FaceModel generate_head(const HeadOptions& options) {
     regions.push_back(t);
   }
   m.regions = std::move(regions);
+  paint_skin(m, shape);
   m.fapu = fapu_from_feature_points(m.feature_point_positions());
   m.validate("generated head");
   return std::move(b.m);

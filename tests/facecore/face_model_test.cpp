@@ -134,6 +134,20 @@ TEST_F(FaceModelFiles, GeneratedHeadRoundTripsThroughObjAndJson) {
   }
   EXPECT_EQ(a.parts.left_eyeball.vertices, b.parts.left_eyeball.vertices);
   EXPECT_NEAR(a.fapu.mw0, b.fapu.mw0, 1e-3);
+  // The skin's texture and coordinates come back; the eyes and teeth have none.
+  ASSERT_FALSE(b.texture.empty());
+  EXPECT_EQ(a.texture.rgb, b.texture.rgb);
+  ASSERT_EQ(a.texcoords.size(), b.texcoords.size());
+  std::size_t textured = 0;
+  for (std::size_t v = 0; v < a.texcoords.size(); ++v) {
+    ASSERT_EQ(a.texcoords[v].allFinite(), b.texcoords[v].allFinite()) << "vertex " << v;
+    if (!a.texcoords[v].allFinite()) continue;
+    ++textured;
+    ASSERT_LT((a.texcoords[v] - b.texcoords[v]).norm(), 1e-5f) << "vertex " << v;
+  }
+  EXPECT_GT(textured, a.texcoords.size() / 2);
+  for (int v : a.parts.left_eyeball.vertices)
+    EXPECT_FALSE(a.texcoords[static_cast<std::size_t>(v)].allFinite());
 }
 
 TEST_F(FaceModelFiles, TextureNamedButMissingOrBrokenIsOneClearError) {
