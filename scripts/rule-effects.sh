@@ -14,8 +14,6 @@ trap 'rm -rf "$work"' EXIT
 # rule | options that turn it off | scenario | loop file ("" = 640x480) | FAP names to show
 rules=(
   "brows.edge_fit_mid_brows|--tracker-option brows.edge_fit_mid_brows=false|fear||raise_l_m_eyebrow raise_r_m_eyebrow"
-  "brows.hold_merged_inner_brows|--tracker-option brows.hold_merged_inner_brows=false|turns||squeeze_l_eyebrow squeeze_r_eyebrow"
-  "brows.inner_brow_core_tolerance|--tracker-option brows.inner_brow_core_tolerance=0|turns||squeeze_l_eyebrow squeeze_r_eyebrow"
   "eyes.inner_corners_raise_share|--tracker-option eyes.inner_corners_raise_share=false|still|data/eval/closed_loop_1280x720.json|close_t_l_eyelid close_t_r_eyelid"
   "eyes.inner_corners_symmetric_centre|--tracker-option eyes.inner_corners_symmetric_centre=false|fear||head_yaw head_pitch"
   "eyes.inner_corner_max_elongation_large|--tracker-option eyes.inner_corner_max_elongation_large=3|turns|data/eval/closed_loop_1280x720.json|close_t_l_eyelid close_t_r_eyelid"

@@ -18,7 +18,6 @@
 #include "tracking/affine2d.hpp"
 #include "tracking/face_prior.hpp"
 #include "tracking/identify.hpp"
-#include "tracking/ink_core.hpp"
 #include "tracking/lid_geometry.hpp"
 #include "tracking/lk_pyramid.hpp"
 #include "tracking/lower_lip_search.hpp"
@@ -51,8 +50,7 @@ enum class DotRole {
   InnerEyeCorner,  // 3.8, 3.11
   OuterEyeCorner,  // 3.7, 3.12
   OtherEye,        // any other point of group 3 (the pupils): an eye dot with no rule of its own
-  InnerBrow,       // 4.1, 4.2: at the eyebrows' inner ends
-  MidBrow,         // 4.3, 4.4: on the eyebrow
+  MidBrow,         // 4.3, 4.4: above the eyebrow's highest point
   LowerLip,        // 8.2, 8.7, 8.8 (lower_lip_search.hpp)
   Plain,           // every other dot, and the tags
 };
@@ -64,7 +62,6 @@ DotRole role_of(const FeaturePointId& fp) {
   if (is_eye_point(fp))
     return fp.index == kLeftOuterCorner || fp.index == kRightOuterCorner ? DotRole::OuterEyeCorner
                                                                          : DotRole::OtherEye;
-  if (fp.group == 4 && fp.index <= 2) return DotRole::InnerBrow;
   if (fp.group == 4 && (fp.index == 3 || fp.index == 4)) return DotRole::MidBrow;
   if (at_lower_lip(fp)) return DotRole::LowerLip;
   return DotRole::Plain;
@@ -442,11 +439,6 @@ struct MarkerTracker::Impl {
       if (at_eye(i))
         if (auto d = refine_dot(gray, s.position, 3, dot_options(i)))
           reference[i] = s.position = d->center;
-      // An inner brow dot merged with the eyebrow's end is identified by the merged blob
-      // (Xface joy with turns at 1280x720: 6 px off): its ink's core instead.
-      if (options.brows.hold_merged_inner_brows && is_inner_brow(i))
-        if (auto d = refine_dot(gray, s.position, 3, dot_options(i)); d && merged_with_brow(*d))
-          reference[i] = s.position = merged_brow_position(d->center, s.position, *d);
       if (auto d = refine_dot(gray, s.position, 1.5, dot_options(i))) {
         reference_contrast[i] = d->contrast, reference_diameter[i] = d->diameter;
         contrasts.push_back(d->contrast), diameters.push_back(d->diameter);
@@ -537,16 +529,6 @@ struct MarkerTracker::Impl {
   // merged for a frame is better kept than dropped (the suite's mouth clip: dropped lip dots
   // come back on a neighbour's): the eye dots' stricter checks hold only at the eyes.
   bool at_eye(size_t i) const { return tracking::at_eye(roles[i]); }
-  bool is_inner_brow(size_t i) const { return roles[i] == DotRole::InnerBrow; }
-  // A brow dot's blob merged with the eyebrow: on the rendered head a lone inner brow dot is
-  // measured at 0.9 of its contrast (the eyebrow beside it merges at 0.8) and is at most 1.5
-  // long and at least 0.68 round there; merged with the eyebrow it comes out at 0.8, or at 0.9
-  // 2-3 long and about 0.5 round.
-  static bool merged_with_brow(const Dot& d) {
-    constexpr double kLoneShare = 0.9, kMostElongation = 1.9, kLeastRoundness = 0.6;
-    return d.share > 0.5 && (d.share < kLoneShare - 1e-9 || d.elongation > kMostElongation ||
-                             d.roundness < kLeastRoundness);
-  }
   // How dot i is measured: the edge fit at the eyes and the mid brows
   // (TrackerOptions::edge_fit_elsewhere, BrowOptions::edge_fit_mid_brows), but
   // at the inner eye corners the raised share (EyeOptions::inner_corners_raise_share) and
@@ -560,21 +542,7 @@ struct MarkerTracker::Impl {
   std::array<std::vector<const DotOptions*>, 2> measured_with;
   const DotOptions& dot_options(size_t i) const { return *measured_with[large_dots ? 1 : 0][i]; }
   bool is_lid(size_t i) const { return roles[i] == DotRole::Lid; }
-  double face_scale = 1;  // the face's size now over its size at the start
-  // Where a merged inner brow dot is: the centre of its ink's core near `from`
-  // (BrowOptions::inner_brow_core_tolerance), else `otherwise`.
-  cv::Point2d merged_brow_position(cv::Point2d from, cv::Point2d otherwise, const Dot& d) const {
-    if (options.brows.inner_brow_core_tolerance <= 0) return otherwise;
-    // The disc reaches a fifth of the dot's width past its rim: room for LK's drift and for a
-    // dot seen long and thin (at 1280x720 under a frown and a turn, 14 px long against 10 wide).
-    constexpr double kReach = 0.7;
-    const auto core = ink_core_centre(gray, from, kReach * d.diameter,
-                                      options.brows.inner_brow_core_tolerance * d.contrast,
-                                      options.dots.polarity == DotPolarity::Dark);
-    // (The merged blob's centre may lie most of the dot's width out along the eyebrow.)
-    const double farthest = std::max(max_snap(), 0.5 * d.diameter);
-    return core && cv::norm(*core - from) <= farthest ? *core : otherwise;
-  }
+  double face_scale = 1;                  // the face's size now over its size at the start
   std::vector<double> recent_diameter;    // per dot, smoothed over its last measurements
   std::vector<double> recent_elongation;  // per dot, when last measured
 
@@ -770,11 +738,6 @@ struct MarkerTracker::Impl {
       if (s.lost_reason != LostReason::None) continue;
       s.valid = true;
       s.position = d->center;
-      // BrowOptions::hold_merged_inner_brows. The snap check above still bounds how far LK may
-      // wander from the merged blob while it is held: past it the dot turns invalid and is
-      // found again.
-      if (options.brows.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(*d))
-        s.position = merged_brow_position(lk, lk, *d);
       recent_diameter[i] = 0.7 * recent_diameter[i] + 0.3 * d->diameter;
       recent_elongation[i] = d->elongation;
       s.quality = std::clamp(d->contrast / reference_contrast[i], 0.0, 1.0) *
@@ -1048,10 +1011,6 @@ struct MarkerTracker::Impl {
       if (carried_now[i] && is_lid(i) && !along_its_lid_line(i, d.center, scale)) continue;
       s.valid = true;
       s.position = d.center;
-      // A merged inner brow dot found again: its ink's core, not the merged blob's centre out
-      // along the eyebrow (BrowOptions::inner_brow_core_tolerance).
-      if (options.brows.hold_merged_inner_brows && is_inner_brow(i) && merged_with_brow(d))
-        s.position = merged_brow_position(d.center, d.center, d);
       recent_diameter[i] = d.diameter;
       recent_elongation[i] = d.elongation;
       s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
@@ -1236,7 +1195,6 @@ void TrackerOptions::validate() const {
   dots.validate();
   identification.validate();
   eyes.validate();
-  brows.validate();
   lower_lip.validate();
   OptionCheck("TrackerOptions")
       .positive("reference_dot_px", reference_dot_px)
@@ -1303,8 +1261,6 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, eyes.edge_on_elongation),
       ROSTRO_NAMED_OPTION(O, eyes.max_lid_elongation),
       ROSTRO_NAMED_OPTION(O, eyes.max_lid_surround),
-      ROSTRO_NAMED_OPTION(O, brows.hold_merged_inner_brows),
-      ROSTRO_NAMED_OPTION(O, brows.inner_brow_core_tolerance),
       ROSTRO_NAMED_OPTION(O, min_identified),
       ROSTRO_NAMED_OPTION(O, identification.gate),
       ROSTRO_NAMED_OPTION(O, identification.size_factor),

@@ -38,10 +38,10 @@
 #include <vector>
 
 #include "tracking/apriltag_detector.hpp"
+#include "tracking/brow_options.hpp"
 #include "tracking/dot_detector.hpp"
 #include "tracking/face_tracker.hpp"
 #include "tracking/identify.hpp"
-#include "tracking/ink_core.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/lid_geometry.hpp"
 #include "tracking/lower_lip_search.hpp"
@@ -76,7 +76,7 @@ struct TrackerOptions {
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.
   double max_relative_motion = 0.35;
   double max_relative_motion_px = 4;
-  // The eye dots' rules (lids and corners: lid_geometry.hpp), the brow dots' (ink_core.hpp) and
+  // The eye dots' rules (lids and corners: lid_geometry.hpp), the brow dots' (brow_options.hpp) and
   // the lower lip's (lower_lip_search.hpp).
   EyeOptions eyes;
   BrowOptions brows;

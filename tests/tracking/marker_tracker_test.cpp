@@ -41,9 +41,6 @@ TEST(TrackerOptions, BadValueIsNamedInOneLine) {
   o = {};
   o.lower_lip.shape = 0;
   EXPECT_EQ(complaint(o), "LowerLipOptions::shape = 0: should be > 0");
-  o = {};
-  o.brows.inner_brow_core_tolerance = -1;
-  EXPECT_EQ(complaint(o), "BrowOptions::inner_brow_core_tolerance = -1: should be >= 0");
 }
 
 TEST(DotOptions, BadValueIsNamedInOneLine) {
