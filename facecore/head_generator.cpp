@@ -26,7 +26,7 @@ constexpr double kLidHW = 12.5;               // half the eye opening's width
 constexpr double kLidReach = 1.6 * kLidHW;    // reach of the eyelid cosine along x
 constexpr double kLidGap = 0.8;               // eyelid skin in front of the eyeball
 constexpr double kUpperLidLead = 0.4;         // upper lid in front of the lower
-constexpr double kLashWidth = 1.0;
+constexpr double kLashWidth = 1.0;  // the upper lash line's width at the eye's middle (mm)
 constexpr double kBrowInnerX = 15.0, kBrowMidX = 31.5, kBrowOuterX = 47.0;  // 4.1, 4.3, 4.5
 constexpr double kBrowInner = 6.0, kBrowOuter = 3.0;  // the brow's height at its ends
 constexpr double kMouthY = -32.0, kMouthHW = 23.5;    // mouth line, inner corners at +-kMouthHW
