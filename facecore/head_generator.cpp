@@ -181,6 +181,11 @@ Eigen::Vector2f skin_texcoord(double phi, double row_y) {
   return {static_cast<float>((phi + kPi) / (2 * kPi)),
           static_cast<float>((row_y - kNeckY) / (kCrownY - kNeckY))};
 }
+// The inverse: the angle (in -pi..pi) and row height a texture point lies at.
+std::pair<double, double> skin_place(const Eigen::Vector2d& uv) {
+  const double phi = (uv.x() - std::floor(uv.x())) * 2 * kPi - kPi;
+  return {phi, kNeckY + uv.y() * (kCrownY - kNeckY)};
+}
 
 // Mesh under construction, with a tag per vertex saying which side of a slit it lies on.
 struct Builder {
@@ -393,9 +398,7 @@ void paint_skin(FaceModel& m, const SkinShape& shape) {
   }
   m.texture =
       bake_texture(m, skin_triangles, kTextureWidth, kTextureHeight, [&](const TexelPoint& t) {
-        double phi = t.uv.x() * 2 * kPi - kPi;
-        if (phi >= kPi) phi -= 2 * kPi;
-        const double row_y = kNeckY + t.uv.y() * (kCrownY - kNeckY);
+        const auto [phi, row_y] = skin_place(t.uv);
         return eye_outline(shape, phi, row_y, skin_colour(t.position, phi, t.position.y()));
       });
   for (std::size_t v = 0; v < m.positions.size(); ++v)
