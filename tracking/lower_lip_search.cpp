@@ -147,7 +147,7 @@ std::optional<std::vector<LowerLipFound>> find_lower_lip(const LowerLipScene& sc
   for (const cv::Point2d& shift : shifts) {
     std::vector<cv::Point2d> agreeing;  // the followed members' offsets near this shift
     std::vector<const Candidate*> picks;
-    double residual = 0;
+    double residual = 0;  // over the agreeing members and the kept picks
     for (size_t k = 0; k < members.size(); ++k) {
       if (members[k].followed) {
         const double r = cv::norm(offsets[k] - shift);
@@ -159,14 +159,15 @@ std::optional<std::vector<LowerLipFound>> find_lower_lip(const LowerLipScene& sc
       for (const Candidate& c : candidates)
         if (c.member == k && cv::norm(c.offset - shift) <= nearest)
           pick = &c, nearest = cv::norm(c.offset - shift);
-      if (pick) residual += nearest, picks.push_back(pick);
+      if (pick) picks.push_back(pick);
     }
     std::vector<const Candidate*> kept;
     for (const Candidate* p : picks) {
       std::vector<cv::Point2d> others = agreeing;
       for (const Candidate* q : picks)
         if (q != p) others.push_back(q->offset);
-      if (!nearer_a_neighbour(*p, others)) kept.push_back(p);
+      if (!nearer_a_neighbour(*p, others))
+        kept.push_back(p), residual += cv::norm(p->offset - shift);
     }
     const int count = static_cast<int>(agreeing.size() + kept.size());
     if (kept.empty() || count < 2) continue;
