@@ -22,6 +22,7 @@
 #include "tracking/lk_pyramid.hpp"
 #include "tracking/lower_lip_search.hpp"
 #include "tracking/overlay.hpp"
+#include "tracking/tag_alignment.hpp"
 
 namespace rostro::tracking {
 
@@ -113,6 +114,10 @@ struct MarkerTracker::Impl {
       MarkerState s;
       s.spec = &m;
       states.push_back(s);
+      aligners.push_back(m.is_tag()
+                             ? std::make_optional<TagAligner>(apriltag_image(m.family, m.tag_id),
+                                                              apriltag_black_width(m.family))
+                             : std::nullopt);
     }
     std::vector<FeaturePointId> points;
     for (const MarkerState& s : states) points.push_back(s.spec->feature_point);
@@ -309,6 +314,7 @@ struct MarkerTracker::Impl {
       return;
     }
     place_unseen(known);
+    timed("align_tags", [&] { align_tags(); });
     scale_to_dots(measure_seen());
     measure_spacing();
     started = true;
@@ -571,6 +577,7 @@ struct MarkerTracker::Impl {
     const TagGuesses tags = timed("tag_corner_guesses", [&] { return tag_corner_guesses(flow); });
     timed("snap_dots", [&] { snap_dots(flow); });
     timed("follow_tags", [&] { follow_tags(flow, tags); });
+    timed("align_tags", [&] { align_tags(); });
     timed("drop_jumped", [&] { drop_jumped(flow); });
     timed("drop_coincident", [&] { drop_coincident(); });
     timed("drop_off_lid_band", [&] { drop_off_lid_band(); });
@@ -759,6 +766,23 @@ struct MarkerTracker::Impl {
         continue;
       }
       find_tag(i, g.corners[i]);
+    }
+  }
+
+  // 3b. Each valid tag's corners from its whole printed pattern (tag_alignment.hpp), several
+  //     times nearer than the square's edges that detection and LK give: the tags carry the
+  //     head's pose. A tag the pattern does not fit (a hand over part of it) keeps those.
+  std::vector<std::optional<TagAligner>> aligners;  // per marker: tags only
+  void align_tags() {
+    if (!options.align_tags) return;
+    for (size_t i = 0; i < states.size(); ++i) {
+      MarkerState& s = states[i];
+      if (!s.valid || !aligners[i]) continue;
+      ensure_gray(box_around(s.corners, 0.2 * cv::norm(s.corners[0] - s.corners[1]) + 2));
+      if (auto c = aligners[i]->align(gray, s.corners)) {
+        s.corners = *c;
+        s.position = diagonal_crossing(*c);
+      }
     }
   }
 
@@ -1243,6 +1267,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, tag_margin),
       ROSTRO_NAMED_OPTION(O, tag_decimate_above_px),
       ROSTRO_NAMED_OPTION(O, tag_redetect_every),
+      ROSTRO_NAMED_OPTION(O, align_tags),
       ROSTRO_NAMED_OPTION(O, search_fraction),
       ROSTRO_NAMED_OPTION(O, eyes.max_eye_snap),
       ROSTRO_NAMED_OPTION(O, eyes.lid_sideways_fraction),

@@ -71,7 +71,10 @@ struct TrackerOptions {
   double tag_margin = 0.3;            // tag search window: expected box + this x tag size
   double tag_decimate_above_px = 48;  // tags wider than this are searched at half resolution
   int tag_redetect_every = 4;         // frames; in between LK follows the tags' corners
-  double search_fraction = 0.45;      // re-acquisition radius, fraction of the nearest spacing
+  // Each tag's corners aligned to its whole printed pattern after detection or LK
+  // (tag_alignment.hpp): a few hundredths of a pixel instead of a tenth or more.
+  bool align_tags = true;
+  double search_fraction = 0.45;  // re-acquisition radius, fraction of the nearest spacing
   // How far a dot's frame-to-frame motion may differ from its neighbours' (the larger of a
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.
   double max_relative_motion = 0.35;
