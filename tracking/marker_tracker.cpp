@@ -314,7 +314,11 @@ struct MarkerTracker::Impl {
       return;
     }
     place_unseen(known);
-    timed("align_tags", [&] { align_tags(); });
+    if (options.align_tags)
+      timed("align_tags", [&] {
+        for (size_t i = 0; i < states.size(); ++i)
+          if (states[i].valid && aligners[i]) align_tag(i, states[i].corners);
+      });
     scale_to_dots(measure_seen());
     measure_spacing();
     started = true;
@@ -577,7 +581,6 @@ struct MarkerTracker::Impl {
     const TagGuesses tags = timed("tag_corner_guesses", [&] { return tag_corner_guesses(flow); });
     timed("snap_dots", [&] { snap_dots(flow); });
     timed("follow_tags", [&] { follow_tags(flow, tags); });
-    timed("align_tags", [&] { align_tags(); });
     timed("drop_jumped", [&] { drop_jumped(flow); });
     timed("drop_coincident", [&] { drop_coincident(); });
     timed("drop_off_lid_band", [&] { drop_off_lid_band(); });
@@ -680,10 +683,22 @@ struct MarkerTracker::Impl {
                              f.after, f.status, cv::noArray(), window, options.lk_levels, stop,
                              cv::OPTFLOW_USE_INITIAL_FLOW);
     f.back = local_before;
-    pyramid.derivatives(f.after);
-    cv::calcOpticalFlowPyrLK(pyramid.as_lk_input(), previous_pyramid.as_lk_input(), f.after, f.back,
-                             f.status_back, cv::noArray(), window, options.lk_levels, stop,
+    f.status_back.assign(f.before.size(), 1);
+    // The way back only for the dots when the tags are aligned to their patterns: a tag's
+    // alignment checks it (follow_tags), and its corners are a quarter of LK's points.
+    std::vector<size_t> back;  // the points LK takes back
+    for (size_t k = 0; k < f.before.size(); ++k)
+      if (!options.align_tags || !states[f.owner[k]].spec->is_tag()) back.push_back(k);
+    std::vector<cv::Point2f> back_from(back.size()), back_to(back.size());
+    for (size_t j = 0; j < back.size(); ++j)
+      back_from[j] = f.after[back[j]], back_to[j] = local_before[back[j]];
+    std::vector<uchar> back_status;
+    pyramid.derivatives(back_from);
+    cv::calcOpticalFlowPyrLK(pyramid.as_lk_input(), previous_pyramid.as_lk_input(), back_from,
+                             back_to, back_status, cv::noArray(), window, options.lk_levels, stop,
                              cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t j = 0; j < back.size(); ++j)
+      f.back[back[j]] = back_to[j], f.status_back[back[j]] = back_status[j];
     for (size_t k = 0; k < f.before.size(); ++k) f.after[k] += to_tl, f.back[k] += from_tl;
     return f;
   }
@@ -752,10 +767,20 @@ struct MarkerTracker::Impl {
     }
   }
 
-  // 3. A tag is rigid: between detections (every few frames) LK on its corners follows it, as
-  //    long as all four corners pass the round trip and the square keeps its size; otherwise
-  //    it is re-detected near the moved corners.
+  // 3. A tag is rigid: LK moves its corners, and its whole printed pattern aligned from there
+  //    (TrackerOptions::align_tags) gives them; a tag the pattern does not fit there (a hand
+  //    over part of it, LK gone astray) is re-detected near the moved corners, then aligned.
+  //    Without the alignment, LK's corners are kept between detections (every few frames) as
+  //    long as all four pass the round trip and the square keeps its size.
   void follow_tags(const Flow& f, const TagGuesses& g) {
+    if (options.align_tags) {
+      for (size_t i = 0; i < states.size(); ++i) {
+        if (!states[i].spec->is_tag() || !f.was_valid[i]) continue;
+        if (!align_tag(i, g.corners[i]) && find_tag(i, g.corners[i]))
+          align_tag(i, states[i].corners);
+      }
+      return;
+    }
     const bool detect_tags = ++frames_since_tag_detection >= options.tag_redetect_every;
     if (detect_tags) frames_since_tag_detection = 0;
     for (size_t i = 0; i < states.size(); ++i) {
@@ -769,21 +794,19 @@ struct MarkerTracker::Impl {
     }
   }
 
-  // 3b. Each valid tag's corners from its whole printed pattern (tag_alignment.hpp), several
-  //     times nearer than the square's edges that detection and LK give: the tags carry the
-  //     head's pose. A tag the pattern does not fit (a hand over part of it) keeps those.
+  // Tag i's corners from its whole printed pattern (tag_alignment.hpp) aligned from `start`,
+  // several times nearer than the square's edges that detection and LK give: the tags carry
+  // the head's pose. False, the state untouched, when the pattern does not fit there.
   std::vector<std::optional<TagAligner>> aligners;  // per marker: tags only
-  void align_tags() {
-    if (!options.align_tags) return;
-    for (size_t i = 0; i < states.size(); ++i) {
-      MarkerState& s = states[i];
-      if (!s.valid || !aligners[i]) continue;
-      ensure_gray(box_around(s.corners, 0.2 * cv::norm(s.corners[0] - s.corners[1]) + 2));
-      if (auto c = aligners[i]->align(gray, s.corners)) {
-        s.corners = *c;
-        s.position = diagonal_crossing(*c);
-      }
-    }
+  bool align_tag(size_t i, const std::array<cv::Point2d, 4>& start) {
+    MarkerState& s = states[i];
+    ensure_gray(box_around(start, 0.2 * cv::norm(start[0] - start[1]) + 2));
+    const auto c = aligners[i]->align(gray, start);
+    if (!c) return false;
+    s.valid = true;
+    s.corners = *c;
+    s.position = diagonal_crossing(*c);
+    return true;
   }
 
   // 4a. A dot must move roughly as its neighbours do: LK that slid onto another dot (a
@@ -1017,7 +1040,7 @@ struct MarkerTracker::Impl {
     if (s.spec->is_tag()) {
       std::array<cv::Point2d, 4> guess;
       for (int k = 0; k < 4; ++k) guess[k] = apply(m, reference_corners[i][k]);
-      find_tag(i, guess);
+      if (find_tag(i, guess) && options.align_tags) align_tag(i, states[i].corners);
       return;
     }
     const cv::Point2d expected = predicted_at(i);

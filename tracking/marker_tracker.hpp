@@ -70,10 +70,12 @@ struct TrackerOptions {
   double min_contrast_ratio = 0.4;    // of the dot's contrast at identification
   double tag_margin = 0.3;            // tag search window: expected box + this x tag size
   double tag_decimate_above_px = 48;  // tags wider than this are searched at half resolution
-  int tag_redetect_every = 4;         // frames; in between LK follows the tags' corners
-  // Each tag's corners aligned to its whole printed pattern after detection or LK
-  // (tag_alignment.hpp): a few hundredths of a pixel instead of a tenth or more.
+  // Each tag's corners aligned each frame to its whole printed pattern from where LK moves
+  // them (tag_alignment.hpp): a few hundredths of a pixel instead of a tenth or more. A tag the
+  // pattern does not fit there is detected again. Off: LK's corners, the tags re-detected
+  // every tag_redetect_every frames.
   bool align_tags = true;
+  int tag_redetect_every = 4;     // frames, without align_tags; in between LK follows the corners
   double search_fraction = 0.45;  // re-acquisition radius, fraction of the nearest spacing
   // How far a dot's frame-to-frame motion may differ from its neighbours' (the larger of a
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.

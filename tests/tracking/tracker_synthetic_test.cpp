@@ -146,6 +146,43 @@ TEST(Tracker, OcclusionsAreFlaggedAndMarkersComeBack) {
   EXPECT_LE(percentile(st.errors, 0.5), 0.2);
 }
 
+// A hand over a headband tag: the tag is dropped while hidden (its pattern no longer fits where
+// LK puts its corners, and it is not detected there), never reported off its place while partly
+// covered, and back within 3 frames of coming out. The tags' places come from a first run.
+TEST(Tracker, AHiddenTagIsDroppedAndComesBack) {
+  MarkerLayout layout = default_layout();
+  SceneOptions o;
+  std::map<std::string, Truth> start;
+  SyntheticScene(layout, o).render(12, start);
+  const Truth& tag = start.at("tag36h11:1");
+  double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+  for (const cv::Point2d& c : tag.corners)
+    x0 = std::min(x0, c.x), y0 = std::min(y0, c.y), x1 = std::max(x1, c.x), y1 = std::max(y1, c.y);
+  const double pad = (x1 - x0) / 3 + o.motion_px + 2;
+  // Wholly over it on frames 10-19, then over its left third or so on frames 25-29.
+  o.occluders = {{{x0 - pad, y0 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad}, 10, 19},
+                 {{x0 - pad, y0 - pad, 0.3 * (x1 - x0) + pad, y1 - y0 + 2 * pad}, 25, 29}};
+  SyntheticScene scene(layout, o);
+  MarkerTracker tracker(layout, options_for(o));
+  int back_at = -1, back_after_partial = -1;
+  for (int k = 0; k < 40; ++k) {
+    std::map<std::string, Truth> truth;
+    const TrackedFrame tf = tracker.track(scene.render(k, truth), k, k / 30.0);
+    const Truth& t = truth.at("tag36h11:1");
+    for (const MarkerObservation& m : tf.markers) {
+      if (m.marker != "tag36h11:1") continue;
+      if (k >= 10 && k <= 19) EXPECT_FALSE(m.valid) << "frame " << k << ": valid while hidden";
+      if (m.valid) EXPECT_LT(cv::norm(m.position - t.position), 1.0) << "frame " << k;
+      if (k > 19 && k < 25 && m.valid && back_at < 0) back_at = k;
+      if (k > 29 && m.valid && back_after_partial < 0) back_after_partial = k;
+    }
+  }
+  EXPECT_GE(back_at, 20);
+  EXPECT_LE(back_at, 22) << "the tag was not back within 3 frames of the hand leaving it";
+  EXPECT_GE(back_after_partial, 30);
+  EXPECT_LE(back_after_partial, 32);
+}
+
 // Every invalid marker names the rule that dropped it (or that it was never identified), a
 // valid one none; the dots under a hand are dropped by a rule, not left unidentified.
 TEST(Tracker, EveryLostMarkerNamesTheRuleThatDroppedIt) {
