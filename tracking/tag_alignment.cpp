@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace rostro::tracking {
@@ -19,6 +20,16 @@ constexpr double kSettledPx = 0.01;  // a step that moves no corner further ends
 constexpr double kFarOff = 0.35;
 constexpr double kMostFarOff = 0.03;
 constexpr double kLeastContrast = 20;  // grey levels from ink to paper
+
+// The lighting's regressors at a sample: seen = (gain + gain_x x + gain_y y) * pattern
+// + blur * laplacian + offset + offset_x x + offset_y y. The light falls off across a tag on a
+// curved headband or a turned face, darkening ink and paper alike (the gain's slope) and
+// adding its own glow (the offset's). Padded to eight lanes with a 0.
+void set_lighting_row(TagPattern::Sample& s) {
+  const float row[TagPattern::kLightingLanes] = {s.value, s.value * s.x, s.value * s.y, s.blur,
+                                                 1.0f,    s.x,           s.y,           0.0f};
+  std::copy(std::begin(row), std::end(row), s.light);
+}
 
 // The pattern's corners in its own coordinates, in libapriltag's order: bottom-left,
 // bottom-right, top-right, top-left of the upright tag (image y down).
@@ -121,14 +132,17 @@ TagPattern::TagPattern(const cv::Mat& bits, int black_width, double cell_px, dou
         s.sd[i] = static_cast<float>(sd[i]);
         for (int j = 0; j < 8; ++j) hessian(i, j) += sd[i] * sd[j];
       }
+      set_lighting_row(s);
       samples_.push_back(s);
     }
   hessian_inverse_ = hessian.inv(cv::DECOMP_CHOLESKY);
-  cv::Matx33d lighting = cv::Matx33d::zeros();
-  for (const Sample& s : samples_) {
-    const cv::Vec3d row(s.value, s.blur, 1.0);
-    lighting += row * row.t();
-  }
+  cv::Matx<double, kLighting, kLighting> lighting = cv::Matx<double, kLighting, kLighting>::zeros();
+  sd_light_ = cv::Matx<double, 8, kLighting>::zeros();
+  for (const Sample& s : samples_)
+    for (int i = 0; i < kLighting; ++i) {
+      for (int j = 0; j < kLighting; ++j) lighting(i, j) += double(s.light[i]) * s.light[j];
+      for (int j = 0; j < 8; ++j) sd_light_(j, i) += double(s.sd[j]) * s.light[i];
+    }
   lighting_inverse_ = lighting.inv(cv::DECOMP_SVD);
 }
 
@@ -145,7 +159,8 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
     return out;
   };
   std::array<cv::Point2d, 4> now = corners;
-  double gain = 0, far_off = 0, blur = 0;
+  double gain = 0, blur = 0;
+  cv::Vec<double, kLighting> lighting;
   bool settled = false;
   for (int iteration = 0; iteration < kMaxIterations && !settled; ++iteration) {
     // The image under each sample, bilinear, and its sums against the lighting's regressors.
@@ -156,7 +171,11 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
                 h22 = static_cast<float>(h(2, 2));
     const float right = static_cast<float>(gray.cols - 1),
                 bottom = static_cast<float>(gray.rows - 1);
-    cv::Vec3d b(0, 0, 0);
+    // The image's sums against the lighting's regressors and the steepest-descent rows, in
+    // floats, eight lanes at once: a step's precision is the convergence test's, not the sums'
+    // last digits.
+    cv::v_float32x4 light_lo = cv::v_setzero_f32(), light_hi = light_lo, sd_lo = light_lo,
+                    sd_hi = light_lo;
     for (size_t k = 0; k < samples_.size(); ++k) {
       const Sample& s = samples_[k];
       const float w = 1.0f / (h20 * s.x + h21 * s.y + h22);
@@ -169,31 +188,30 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
       const float v =
           (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
       seen[k] = v;
-      b[0] += s.value * v, b[1] += s.blur * v, b[2] += v;
+      const cv::v_float32x4 vv = cv::v_setall_f32(v);
+      light_lo = cv::v_fma(cv::v_load(s.light), vv, light_lo);
+      light_hi = cv::v_fma(cv::v_load(s.light + 4), vv, light_hi);
+      sd_lo = cv::v_fma(cv::v_load(s.sd), vv, sd_lo);
+      sd_hi = cv::v_fma(cv::v_load(s.sd + 4), vv, sd_hi);
     }
-    // The lighting and the blur: seen = gain * (pattern + blur * laplacian) + offset, by least
-    // squares. A symmetric blur moves no edge, but fitted with a pattern of the wrong softness
-    // it pulls the corners toward the code's busier side; the blur term absorbs that.
-    const cv::Vec3d x = lighting_inverse_ * b;
+    float light_sums[kLightingLanes], sd_sums[8];
+    cv::v_store(light_sums, light_lo), cv::v_store(light_sums + 4, light_hi);
+    cv::v_store(sd_sums, sd_lo), cv::v_store(sd_sums + 4, sd_hi);
+    // The lighting and the blur, by least squares (lighting_row). A symmetric blur moves no
+    // edge, but fitted with a pattern of the wrong softness it pulls the corners toward the
+    // code's busier side; the blur term absorbs that.
+    cv::Vec<double, kLighting> b;
+    for (int i = 0; i < kLighting; ++i) b[i] = light_sums[i];
+    const cv::Vec<double, kLighting> x = lighting_inverse_ * b;
     gain = x[0];
     if (gain < kLeastContrast) return std::nullopt;
-    // The steepest-descent sums in floats, eight lanes at once: a step's precision is the
-    // convergence test's, not the sums' last digits.
-    float g8[8] = {};
-    int far = 0;
-    const float g0 = static_cast<float>(x[0]), g1 = static_cast<float>(x[1]),
-                g2 = static_cast<float>(x[2]), far_level = static_cast<float>(kFarOff * gain);
-    for (size_t k = 0; k < samples_.size(); ++k) {
-      const Sample& s = samples_[k];
-      const float e = seen[k] - (g0 * s.value + g1 * s.blur + g2);
-      far += std::abs(e) > far_level;
-      for (int i = 0; i < 8; ++i) g8[i] += s.sd[i] * e;
-    }
+    lighting = x;
+    // The steepest descent against the residual seen - model: its model part is the fitted
+    // lighting times the pattern's own sums of steepest-descent rows and regressors.
     cv::Vec<double, 8> g;
-    for (int i = 0; i < 8; ++i) g[i] = g8[i];
-    const double n = static_cast<double>(samples_.size());
-    far_off = far / n;
-    blur = x[1] / gain;
+    for (int i = 0; i < 8; ++i) g[i] = sd_sums[i];
+    g -= sd_light_ * x;
+    blur = x[3] / gain;
     const cv::Vec<double, 8> dp = hessian_inverse_ * g * (1.0 / gain);
     const cv::Matx33d step(1 + dp[0], dp[1], dp[2], dp[3], 1 + dp[4], dp[5], dp[6], dp[7], 1);
     h = h * step.inv();
@@ -203,7 +221,18 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
     now = next;
     settled = moved < kSettledPx;
   }
-  if (!settled || far_off > kMostFarOff) return std::nullopt;
+  if (!settled) return std::nullopt;
+  // The residuals of the last step's samples: how much of the tag does not look like it.
+  int far = 0;
+  const float far_level = static_cast<float>(kFarOff * gain);
+  float fitted[kLightingLanes] = {};
+  for (int i = 0; i < kLighting; ++i) fitted[i] = static_cast<float>(lighting[i]);
+  for (size_t k = 0; k < samples_.size(); ++k) {
+    float model = 0;
+    for (int i = 0; i < kLightingLanes; ++i) model += fitted[i] * samples_[k].light[i];
+    far += std::abs(seen[k] - model) > far_level;
+  }
+  if (far > kMostFarOff * static_cast<double>(samples_.size())) return std::nullopt;
   for (int k = 0; k < 4; ++k)
     if (cv::norm(now[k] - corners[k]) > max_move_px) return std::nullopt;
   // Blurring by sigma adds sigma^2 / 2 of the Laplacian (in samples), to first order.

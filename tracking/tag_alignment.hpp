@@ -5,8 +5,8 @@
 // 30-70 px wide they move by 0.1-0.4 px from frame to frame as the square crosses the pixel grid,
 // and a tag is where the head's pose is read. Every bit cell of a tag is a known edge as well,
 // so aligning the printed pattern to the image by a homography (Gauss-Newton, inverse
-// compositional, with a gain and an offset for the lighting) uses a few hundred edge pixels
-// instead of four lines.
+// compositional, with the lighting's gain and offset and their slopes across the tag) uses a few
+// hundred edge pixels instead of four lines.
 
 #include <array>
 #include <opencv2/core.hpp>
@@ -39,16 +39,21 @@ class TagPattern {
   double cell_px() const { return cell_px_; }
   double softness_px() const { return softness_px_; }
 
- private:
+  static constexpr int kLighting = 7;       // the lighting model's terms (tag_alignment.cpp)
+  static constexpr int kLightingLanes = 8;  // padded for the vector unit
   struct Sample {
     float x, y;   // pattern coordinates: the black square spans [-1, 1]
     float value;  // the pattern there, 0 ink to 1 paper, softened
     float blur;   // its Laplacian (in samples): what a little more blur adds to the value
     float sd[8];  // its steepest-descent row: gradient times the warp's Jacobian at identity
+    float light[kLightingLanes];  // the lighting model's regressors there
   };
+
+ private:
   std::vector<Sample> samples_;
   cv::Matx<double, 8, 8> hessian_inverse_;
-  cv::Matx33d lighting_inverse_;  // of the lighting regressors' normal matrix (value, blur, 1)
+  cv::Matx<double, kLighting, kLighting> lighting_inverse_;  // of its regressors' normal matrix
+  cv::Matx<double, 8, kLighting> sd_light_;  // sum over the samples of sd x the regressors
   double cell_px_, softness_px_, px_per_sample_ = 1;
 };
 
