@@ -16,9 +16,10 @@
 //     that grew (merged with the pupil or the other lid's dot: their centre is neither's) or,
 //     a lid dot, turned twice as tall as wide (merged with the pupil, at a dot's size); an
 //     inner brow dot merged with the eyebrow's end is placed by its ink's darker core;
-//  3. tags are re-detected in a small window around where LK puts their corners every few
-//     frames (and whenever a corner fails LK's round trip or the square changes size); in
-//     between, LK on their corners follows them (tags are rigid);
+//  3. each tag's whole bit pattern is aligned to the image from where LK puts its corners
+//     (tag_alignment.hpp), which also checks it; a tag the pattern does not fit there is
+//     re-detected in a small window around them (without align_tags: re-detected every few
+//     frames, and LK on the corners in between);
 //  4. an invalid marker is looked for near where its valid neighbours say it should be
 //     (an affine fit of the neighbours' start positions to their current ones; a lid dot is
 //     carried instead from where it was last seen with its neighbours' motion since, as the
