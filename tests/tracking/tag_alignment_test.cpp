@@ -14,14 +14,17 @@ namespace {
 constexpr int kId = 7;
 constexpr int kBlack = 8;  // tag36h11's black square, in bit cells
 
-// A tag36h11 tag drawn on skin-grey with its black square's corners at `corners` (pixel
-// centres at integer coordinates), each pixel the area average of 8x8 point samples: the
+// A tag (tag36h11 unless said) drawn on skin-grey with its black square's corners at `corners`
+// (pixel centres at integer coordinates), each pixel the area average of 8x8 point samples: the
 // corners are known to well under a hundredth of a pixel.
-cv::Mat draw_tag(const std::array<cv::Point2d, 4>& corners, cv::Size size) {
-  const cv::Mat bits = apriltag_image("tag36h11", kId);
-  const int border = (bits.cols - kBlack) / 2;
+cv::Mat draw_tag(const std::array<cv::Point2d, 4>& corners, cv::Size size,
+                 const std::string& family = "tag36h11", int id = kId) {
+  const cv::Mat bits = apriltag_image(family, id);
+  const int black = apriltag_black_width(family);
+  const int border = (bits.cols - black) / 2;
   // Pattern cells (from the black square's top-left corner) to image pixels.
-  std::vector<cv::Point2f> cells = {{0, kBlack}, {kBlack, kBlack}, {kBlack, 0}, {0, 0}}, image;
+  const float b = static_cast<float>(black);
+  std::vector<cv::Point2f> cells = {{0, b}, {b, b}, {b, 0}, {0, 0}}, image;
   for (const auto& c : corners) image.emplace_back(c);
   const cv::Matx33d to_cells(cv::getPerspectiveTransform(image, cells));
   constexpr int kFine = 8;
@@ -128,6 +131,22 @@ TEST(TagAlignment, BlurredTagsAlignBetterThanTheSquaresEdges) {
       sum_aligned += e, sum_detected += worst_corner_error(found[0].corners, truth);
     }
   EXPECT_LT(sum_aligned, sum_detected);
+}
+
+// Other families: a smaller code (tag25h9) and one whose code runs outside the square
+// libapriltag's corners outline (tagStandard41h12, a reversed border).
+TEST(TagAlignment, OtherFamiliesAlign) {
+  for (const std::string family : {"tag25h9", "tagStandard41h12"}) {
+    const auto truth = tilted_square({60.4, 59.7}, 36, 0.15, 0.03);
+    cv::Mat image = draw_tag(truth, {120, 120}, family, 3);
+    add_noise(image, 2.0, 5);
+    std::array<cv::Point2d, 4> start = truth;
+    for (auto& c : start) c += cv::Point2d(0.5, -0.4);
+    TagAligner aligner(apriltag_image(family, 3), apriltag_black_width(family));
+    const auto aligned = aligner.align(image, start);
+    ASSERT_TRUE(aligned) << family;
+    EXPECT_LT(worst_corner_error(*aligned, truth), 0.08) << family;
+  }
 }
 
 TEST(TagAlignment, StartsUpToAPixelOff) {
