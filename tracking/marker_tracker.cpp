@@ -776,8 +776,7 @@ struct MarkerTracker::Impl {
     if (options.align_tags) {
       for (size_t i = 0; i < states.size(); ++i) {
         if (!states[i].spec->is_tag() || !f.was_valid[i]) continue;
-        if (!align_tag(i, g.corners[i]) && find_tag(i, g.corners[i]))
-          align_tag(i, states[i].corners);
+        if (!align_tag(i, g.corners[i])) find_tag(i, g.corners[i]);
       }
       return;
     }
@@ -892,6 +891,8 @@ struct MarkerTracker::Impl {
     return c[0] + t * d1;
   }
 
+  // Tag i detected again in a window around `guess` (and aligned to its pattern, align_tags);
+  // false, the tag invalid, when it is not there.
   bool find_tag(size_t i, const std::array<cv::Point2d, 4>& guess) {
     MarkerState& s = states[i];
     const double side = cv::norm(guess[0] - guess[1]);
@@ -909,6 +910,7 @@ struct MarkerTracker::Impl {
       s.corners = t.corners;
       s.position = t.center;
       s.quality = std::clamp(t.decision_margin / 100.0, 0.0, 1.0);
+      if (options.align_tags) align_tag(i, s.corners);  // keeps the detection's if it fails
       return true;
     }
     return false;
@@ -1040,7 +1042,7 @@ struct MarkerTracker::Impl {
     if (s.spec->is_tag()) {
       std::array<cv::Point2d, 4> guess;
       for (int k = 0; k < 4; ++k) guess[k] = apply(m, reference_corners[i][k]);
-      if (find_tag(i, guess) && options.align_tags) align_tag(i, states[i].corners);
+      find_tag(i, guess);
       return;
     }
     const cv::Point2d expected = predicted_at(i);

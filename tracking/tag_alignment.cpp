@@ -25,11 +25,12 @@ constexpr double kLeastContrast = 20;  // grey levels from ink to paper
 // + blur * laplacian + offset + offset_x x + offset_y y. The light falls off across a tag on a
 // curved headband or a turned face, darkening ink and paper alike (the gain's slope) and
 // adding its own glow (the offset's). Padded to eight lanes with a 0.
-void set_lighting_row(TagPattern::Sample& s) {
-  const float row[TagPattern::kLightingLanes] = {s.value, s.value * s.x, s.value * s.y, s.blur,
-                                                 1.0f,    s.x,           s.y,           0.0f};
+void set_lighting_row(TagPattern::Sample& s, float value, float laplacian) {
+  const float row[TagPattern::kLightingLanes] = {value, value * s.x, value * s.y, laplacian,
+                                                 1.0f,  s.x,         s.y,         0.0f};
   std::copy(std::begin(row), std::end(row), s.light);
 }
+constexpr int kBlurTerm = 3;  // the Laplacian's place in the lighting row
 
 // The pattern's corners in its own coordinates, in libapriltag's order: bottom-left,
 // bottom-right, top-right, top-left of the upright tag (image y down).
@@ -122,8 +123,6 @@ TagPattern::TagPattern(const cv::Mat& bits, int black_width, double cell_px, dou
       const double u = origin + (c + 0.5) * step, v = origin + (r + 0.5) * step;
       const double x = (u - half) / half, y = (v - half) / half;
       s.x = static_cast<float>(x), s.y = static_cast<float>(y);
-      s.value = pattern(r, c);
-      s.blur = laplacian(r, c);
       const double dx = gx(r, c), dy = gy(r, c);
       // d(warp)/dp at identity for H = [[1+p0, p1, p2], [p3, 1+p4, p5], [p6, p7, 1]].
       const double sd[8] = {
@@ -132,7 +131,7 @@ TagPattern::TagPattern(const cv::Mat& bits, int black_width, double cell_px, dou
         s.sd[i] = static_cast<float>(sd[i]);
         for (int j = 0; j < 8; ++j) hessian(i, j) += sd[i] * sd[j];
       }
-      set_lighting_row(s);
+      set_lighting_row(s, pattern(r, c), laplacian(r, c));
       samples_.push_back(s);
     }
   hessian_inverse_ = hessian.inv(cv::DECOMP_CHOLESKY);
@@ -147,12 +146,12 @@ TagPattern::TagPattern(const cv::Mat& bits, int black_width, double cell_px, dou
 }
 
 std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
-                                              const std::array<cv::Point2d, 4>& corners,
-                                              double max_move_px) const {
+                                              const std::array<cv::Point2d, 4>& corners) const {
   CV_Assert(gray.type() == CV_8UC1);
   if (samples_.empty()) return std::nullopt;
   cv::Matx33d h = homography_between(kPatternCorners, corners);
-  std::vector<float> seen(samples_.size());
+  thread_local std::vector<float> seen;  // per tag per frame: no allocation once grown
+  seen.resize(samples_.size());
   auto corners_of = [](const cv::Matx33d& m) {
     std::array<cv::Point2d, 4> out;
     for (int k = 0; k < 4; ++k) out[k] = apply(m, kPatternCorners[k]);
@@ -182,7 +181,7 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
       const float px = (h00 * s.x + h01 * s.y + h02) * w, py = (h10 * s.x + h11 * s.y + h12) * w;
       if (!(px >= 0 && py >= 0 && px < right && py < bottom)) return std::nullopt;
       const int x0 = static_cast<int>(px), y0 = static_cast<int>(py);
-      const float fx = px - x0, fy = py - y0;
+      const float fx = px - static_cast<float>(x0), fy = py - static_cast<float>(y0);
       const uint8_t* r0 = gray.ptr<uint8_t>(y0) + x0;
       const uint8_t* r1 = r0 + gray.step[0];
       const float v =
@@ -197,7 +196,7 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
     float light_sums[kLightingLanes], sd_sums[8];
     cv::v_store(light_sums, light_lo), cv::v_store(light_sums + 4, light_hi);
     cv::v_store(sd_sums, sd_lo), cv::v_store(sd_sums + 4, sd_hi);
-    // The lighting and the blur, by least squares (lighting_row). A symmetric blur moves no
+    // The lighting and the blur, by least squares (set_lighting_row). A symmetric blur moves no
     // edge, but fitted with a pattern of the wrong softness it pulls the corners toward the
     // code's busier side; the blur term absorbs that.
     cv::Vec<double, kLighting> b;
@@ -211,7 +210,7 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
     cv::Vec<double, 8> g;
     for (int i = 0; i < 8; ++i) g[i] = sd_sums[i];
     g -= sd_light_ * x;
-    blur = x[3] / gain;
+    blur = x[kBlurTerm] / gain;
     const cv::Vec<double, 8> dp = hessian_inverse_ * g * (1.0 / gain);
     const cv::Matx33d step(1 + dp[0], dp[1], dp[2], dp[3], 1 + dp[4], dp[5], dp[6], dp[7], 1);
     h = h * step.inv();
@@ -233,8 +232,6 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
     far += std::abs(seen[k] - model) > far_level;
   }
   if (far > kMostFarOff * static_cast<double>(samples_.size())) return std::nullopt;
-  for (int k = 0; k < 4; ++k)
-    if (cv::norm(now[k] - corners[k]) > max_move_px) return std::nullopt;
   // Blurring by sigma adds sigma^2 / 2 of the Laplacian (in samples), to first order.
   const double soft = softness_px_ / px_per_sample_;
   const double image_soft = std::sqrt(std::max(0.0, soft * soft + 2 * blur));
@@ -249,7 +246,7 @@ std::optional<std::array<cv::Point2d, 4>> TagAligner::align(
   double side = 0;
   for (int k = 0; k < 4; ++k) side += cv::norm(corners[k] - corners[(k + 1) % 4]) / 4;
   const double cell_px = side / black_width_;
-  auto result = pattern(cell_px, softness_px_).align(gray, corners, max_move_px);
+  auto result = pattern(cell_px, softness_px_).align(gray, corners);
   if (!result) return std::nullopt;
   // A pattern much sharper or softer than the image pulls the corners: again with one as soft
   // as the image seems (the estimate is first order, so a far one is refined once more), and
@@ -259,11 +256,11 @@ std::optional<std::array<cv::Point2d, 4>> TagAligner::align(
                                     kSoftnessStep, kSoftestPx);
     if (std::abs(level - softness_px_) < kSoftnessStep / 2) break;
     softness_px_ = level;
-    result = pattern(cell_px, softness_px_).align(gray, result->corners, max_move_px);
+    result = pattern(cell_px, softness_px_).align(gray, result->corners);
     if (!result) return std::nullopt;
-    for (int k = 0; k < 4; ++k)
-      if (cv::norm(result->corners[k] - corners[k]) > max_move_px) return std::nullopt;
   }
+  for (int k = 0; k < 4; ++k)
+    if (cv::norm(result->corners[k] - corners[k]) > max_move_px) return std::nullopt;
   return result->corners;
 }
 

@@ -29,12 +29,12 @@ class TagPattern {
   TagPattern(const cv::Mat& bits, int black_width, double cell_px, double softness_px);
 
   // The corners that best align the pattern with `gray` (8-bit), starting from `corners` (a
-  // pixel or so off at most). Nothing when the alignment does not converge, moves a corner
-  // by more than `max_move_px`, or the image does not look like the pattern there (a tag
-  // partly hidden, or not there at all). The image's blur is fitted alongside, to first
-  // order: a pattern within about half a pixel of it aligns unbiased.
-  std::optional<TagAlignment> align(const cv::Mat& gray, const std::array<cv::Point2d, 4>& corners,
-                                    double max_move_px = 1.0) const;
+  // pixel or so off at most). Nothing when the alignment does not converge or the image does
+  // not look like the pattern there (a tag partly hidden, or not there at all). The image's
+  // blur is fitted alongside, to first order: a pattern within about half a pixel of it aligns
+  // unbiased.
+  std::optional<TagAlignment> align(const cv::Mat& gray,
+                                    const std::array<cv::Point2d, 4>& corners) const;
 
   double cell_px() const { return cell_px_; }
   double softness_px() const { return softness_px_; }
@@ -43,10 +43,10 @@ class TagPattern {
   static constexpr int kLightingLanes = 8;  // padded for the vector unit
   struct Sample {
     float x, y;   // pattern coordinates: the black square spans [-1, 1]
-    float value;  // the pattern there, 0 ink to 1 paper, softened
-    float blur;   // its Laplacian (in samples): what a little more blur adds to the value
     float sd[8];  // its steepest-descent row: gradient times the warp's Jacobian at identity
-    float light[kLightingLanes];  // the lighting model's regressors there
+    // The lighting model's regressors there: the pattern (0 ink to 1 paper, softened), its
+    // slopes, its Laplacian (what a little more blur adds), and the offset's terms.
+    float light[kLightingLanes];
   };
 
  private:
@@ -63,8 +63,9 @@ class TagAligner {
  public:
   TagAligner(cv::Mat bits, int black_width);
 
-  // TagPattern::align with a pattern of the tag's present size, re-aligned once with a softer
-  // or sharper one when the image's blur is far from the pattern's.
+  // TagPattern::align with a pattern of the tag's present size, re-aligned with a softer or
+  // sharper one when the image's blur is far from the pattern's. Nothing as well when a
+  // corner ends up more than `max_move_px` from where it started.
   std::optional<std::array<cv::Point2d, 4>> align(const cv::Mat& gray,
                                                   const std::array<cv::Point2d, 4>& corners,
                                                   double max_move_px = 1.0);

@@ -171,8 +171,12 @@ TEST(Tracker, AHiddenTagIsDroppedAndComesBack) {
     const Truth& t = truth.at("tag36h11:1");
     for (const MarkerObservation& m : tf.markers) {
       if (m.marker != "tag36h11:1") continue;
-      if (k >= 10 && k <= 19) EXPECT_FALSE(m.valid) << "frame " << k << ": valid while hidden";
-      if (m.valid) EXPECT_LT(cv::norm(m.position - t.position), 1.0) << "frame " << k;
+      if (k >= 10 && k <= 19) {
+        EXPECT_FALSE(m.valid) << "frame " << k << ": valid while hidden";
+      }
+      if (m.valid) {
+        EXPECT_LT(cv::norm(m.position - t.position), 1.0) << "frame " << k;
+      }
       if (k > 19 && k < 25 && m.valid && back_at < 0) back_at = k;
       if (k > 29 && m.valid && back_after_partial < 0) back_after_partial = k;
     }
