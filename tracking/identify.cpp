@@ -12,6 +12,7 @@
 #include "facecore/error.hpp"
 #include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
+#include "tracking/lower_lip_search.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::tracking {
@@ -173,6 +174,11 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
   for (const MarkerSpec& m : layout.markers)
     if (!m.is_tag()) layout_dots.push_back(&m), layout_points.push_back(m.frontal());
   id.confidence.dots = static_cast<int>(layout_dots.size());
+  // Whether dots i and j speak for each other's places (IdentificationOptions::lower_lip_apart).
+  std::vector<bool> on_lower_lip;
+  for (const MarkerSpec* m : layout_dots)
+    on_lower_lip.push_back(options.lower_lip_apart && internal::at_lower_lip(m->feature_point));
+  auto neighbours = [&](size_t i, size_t j) { return on_lower_lip[i] == on_lower_lip[j]; };
 
   auto judge = [&] {
     IdentificationConfidence& c = id.confidence;
@@ -405,7 +411,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
           cv::Point2d sum(0, 0);
           double weight = kFaceShrink;
           for (size_t j = 0; j < n; ++j) {
-            if (!known[j]) continue;
+            if (!known[j] || !neighbours(i, j)) continue;
             const double d = cv::norm(layout_points[i] - layout_points[j]) / closest_typical;
             const double w = std::exp(-0.5 * d * d);
             sum += w * offset[j], weight += w;
@@ -423,7 +429,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       cv::Point2d offset(0, 0);
       double weight = kOwnWeight;  // the base's own say where no named neighbour is near
       for (size_t j = 0; j < n; ++j) {
-        if (j == i || named[j] < 0) continue;
+        if (j == i || named[j] < 0 || !neighbours(i, j)) continue;
         const double d = cv::norm(layout_points[i] - layout_points[j]) / closest_typical;
         const double w = std::exp(-0.5 * d * d);
         offset += w * (dots[static_cast<size_t>(named[j])].center - base[j]);

@@ -48,6 +48,14 @@ struct IdentificationOptions {
   // a faint dot alone near its place (in a corner's shadow, on skin turning away) is still
   // named (tests/tracking/dark_features_test.cpp). 0: position alone.
   double ink_weight = 0.15;
+  // The lower lip's dots (MPEG-4 8.2, 8.7, 8.8) are neighbours only of each other where the
+  // naming moves a dot's place by its neighbours' offsets (the face model's, then the named
+  // detections'): the lower lip drops and spreads away from the upper lip and the corners, so
+  // in an open mouth their offsets pulled its places back toward the lip line by up to a
+  // spacing, where a lower-lip dot took its neighbour's detection or none (the photo scenes:
+  // the hand's, a blur's). The tracker treats it apart likewise (LowerLipOptions::together).
+  // false: every dot a neighbour of every other.
+  bool lower_lip_apart = true;
   // A confident identification meets all of these.
   double min_explained = 0.8;  // share of the layout's dots given a detection
   double max_residual = 0.3;   // IdentificationConfidence::residual

@@ -2,7 +2,8 @@
 // disc in the darker iris) is not taken for a dot, a lost lid dot is found beside it, a pair
 // of dots both shifted from the layout's places (the chin under a nod) keep their names, and a
 // long dark blob where the layout puts a dot (the lip corner beside a mouth-corner dot worn
-// on the skin) is not named in its place, nor a faint one nearer a dot's place than the dot.
+// on the skin) is not named in its place, nor a faint one nearer a dot's place than the dot;
+// the lower lip of an open mouth keeps its names.
 
 #include <gtest/gtest.h>
 
@@ -10,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tracking/dot_detector.hpp"
+#include "tracking/ibug_mapping.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/layout.hpp"
 
@@ -201,6 +203,52 @@ TEST(Identify, AFaintBlobNearerADotsPlaceThanTheDotDoesNotTakeItsName) {
   const Identification alone = identify_markers(layout, dots, {});
   ASSERT_TRUE(alone.dots.count("lid_r_up"));
   EXPECT_LT(cv::norm(alone.dots.at("lid_r_up").center - shadow.center), 1e-9);
+}
+
+TEST(Identify, AnOpenMouthsLowerLipKeepsItsNames) {
+  const LayoutAt at;
+  const MarkerLayout& layout = at.layout;
+  // A wide open smile: the lower lip's dots 14 mm lower than the layout's places and spread, the
+  // chin's lower with them, the corners out and up, the upper lip up; the face model (dlib's
+  // landmarks) puts the dots it knows exactly where they are. The middle lower-lip dot, in the
+  // lower lip's shadow, is not detected.
+  const double mm = 3;  // pixels a millimetre (layout_dots)
+  const double dl = 14, du = 3, dc = 6,
+               ds = 3;  // millimetres: lower lip, upper lip, corners, spread
+  std::map<std::string, cv::Point2d> truth;
+  std::vector<Dot> dots = layout_dots(layout,
+                                      {{"lip_bot", cv::Point2d(0, dl) * mm},
+                                       {"lip_bot_l", cv::Point2d(ds, dl) * mm},
+                                       {"lip_bot_r", cv::Point2d(-ds, dl) * mm},
+                                       {"chin_boss", cv::Point2d(0, dl) * mm},
+                                       {"chin", cv::Point2d(0, dl) * mm},
+                                       {"mouth_l", cv::Point2d(dc, -dc / 2) * mm},
+                                       {"mouth_r", cv::Point2d(-dc, -dc / 2) * mm},
+                                       {"lip_top", cv::Point2d(0, -du) * mm},
+                                       {"lip_top_l", cv::Point2d(0, -du) * mm},
+                                       {"lip_top_r", cv::Point2d(0, -du) * mm}},
+                                      truth);
+  std::map<std::string, cv::Point2d> expected;
+  for (const IbugMarker& i : default_ibug_mapping().markers)
+    for (const MarkerSpec& m : layout.markers)
+      if (!m.is_tag() && m.feature_point == i.feature_point) expected[m.id] = truth.at(m.id);
+  std::erase_if(dots,
+                [&](const Dot& d) { return cv::norm(d.center - truth.at("lip_bot")) < 1e-9; });
+
+  const Identification id = identify_markers(layout, dots, {}, {}, expected);
+  for (const auto& [name, where] : truth) {
+    if (name == "lip_bot") continue;
+    ASSERT_TRUE(id.dots.count(name)) << name;
+    EXPECT_LT(cv::norm(id.dots.at(name).center - where), 1e-9) << name;
+  }
+  EXPECT_FALSE(id.dots.count("lip_bot"));
+  // With the lower lip's places moved by the upper lip's and the corners' offsets as well,
+  // they stay near the lip line, and the lower lip's dots are left unnamed.
+  IdentificationOptions together;
+  together.lower_lip_apart = false;
+  const Identification pulled = identify_markers(layout, dots, {}, together, expected);
+  EXPECT_FALSE(pulled.dots.count("lip_bot_l"));
+  EXPECT_FALSE(pulled.dots.count("lip_bot_r"));
 }
 
 }  // namespace
