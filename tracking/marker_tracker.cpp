@@ -30,6 +30,9 @@ using namespace internal;  // the eyes' geometry and the lower lip's search
 
 namespace {
 
+// DotOptions::max_surround that no ring reaches: no dark-ring test.
+constexpr double kNoSurroundTest = 1e9;
+
 cv::Point2d mean_of(const std::array<cv::Point2d, 4>& c) {
   return (c[0] + c[1] + c[2] + c[3]) * 0.25;
 }
@@ -126,6 +129,10 @@ struct MarkerTracker::Impl {
     options.dots.polarity = layout.polarity;
     centroid_dots = options.dots;
     centroid_dots.edge_fit = false;
+    lower_face_dots = options.dots;
+    lower_face_centroid_dots = centroid_dots;
+    if (options.surround_test_upper_face_only)
+      lower_face_dots.max_surround = lower_face_centroid_dots.max_surround = kNoSurroundTest;
     inner_corner_dots = options.dots;
     inner_corner_dots.raise_share_for_roundness |= options.eyes.inner_corners_raise_share;
     // The inner corners' centre from the raised share's blob (its centroid, then the symmetric
@@ -142,7 +149,11 @@ struct MarkerTracker::Impl {
       const DotRole r = roles[i];
       const bool edge_fit = tracking::at_eye(r) || options.edge_fit_elsewhere ||
                             (options.brows.edge_fit_mid_brows && r == DotRole::MidBrow);
-      const DotOptions* plain = edge_fit ? &options.dots : &centroid_dots;
+      const int group = points[i].group;
+      const bool upper_face = group == 3 || group == 4 || group == 9;
+      const DotOptions* plain = edge_fit
+                                    ? (upper_face ? &options.dots : &lower_face_dots)
+                                    : (upper_face ? &centroid_dots : &lower_face_centroid_dots);
       const bool inner_corner = r == DotRole::InnerEyeCorner;
       measured_with[0].push_back(inner_corner ? &inner_corner_dots : plain);
       measured_with[1].push_back(inner_corner ? &inner_corner_dots_large : plain);
@@ -548,6 +559,9 @@ struct MarkerTracker::Impl {
   // lost before at 0.6 with the line still on, and the edge fit then put 1 in 8 of them 1-1.6 px
   // off (Xface fear: head yaw 9.4 -> 12.7 %).
   DotOptions centroid_dots, inner_corner_dots, inner_corner_dots_large;
+  // As options.dots and centroid_dots, for the dots below the nose and on the cheeks
+  // (TrackerOptions::surround_test_upper_face_only).
+  DotOptions lower_face_dots, lower_face_centroid_dots;
   // Per marker, set in the constructor: [large_dots][i].
   std::array<std::vector<const DotOptions*>, 2> measured_with;
   const DotOptions& dot_options(size_t i) const { return *measured_with[large_dots ? 1 : 0][i]; }
@@ -1279,6 +1293,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, dots.symmetric_centre),
       ROSTRO_NAMED_OPTION(O, reference_dot_px),
       ROSTRO_NAMED_OPTION(O, edge_fit_elsewhere),
+      ROSTRO_NAMED_OPTION(O, surround_test_upper_face_only),
       ROSTRO_NAMED_OPTION(O, brows.edge_fit_mid_brows),
       ROSTRO_NAMED_OPTION(O, eyes.inner_corners_raise_share),
       ROSTRO_NAMED_OPTION(O, eyes.inner_corners_symmetric_centre),
@@ -1317,6 +1332,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, identification.shape_factor),
       ROSTRO_NAMED_OPTION(O, identification.alone_share),
       ROSTRO_NAMED_OPTION(O, identification.ink_weight),
+      ROSTRO_NAMED_OPTION(O, identification.lower_lip_apart),
       ROSTRO_NAMED_OPTION(O, identification.min_explained),
       ROSTRO_NAMED_OPTION(O, identification.max_residual),
       ROSTRO_NAMED_OPTION(O, identification.min_margin),

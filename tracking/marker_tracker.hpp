@@ -63,6 +63,13 @@ struct TrackerOptions {
   // (false), as the edge fit moved the inner brow dots at 640x480 (5 px dots against the brow's
   // fold) and flipped the identity of the mouth clip's dots.
   bool edge_fit_elsewhere = false;
+  // The dark-ring test (DotOptions::max_surround, which tells the pupil from a dot) for the
+  // dots of the eyes, the brows and the nose only (MPEG-4 groups 3, 4, 9): there a blob in a
+  // dark ring is the pupil, a nostril, a lid dot against the lashes seen from a brow dot. Elsewhere
+  // a dot in a dark ring lies on a dark patch of its own (the shadow under the lower lip, a
+  // dim cheek), and the test lost it there (the photo scenes: hand, gradient). The first
+  // frame's search keeps the test everywhere. false: every dot.
+  bool surround_test_upper_face_only = true;
   int lk_window = 13;                 // pixels
   int lk_levels = 2;                  // pyramid levels above the image: motion up to ~25 px/frame
   double region_margin_px = 24;       // LK region: the markers' box + this + the top window
