@@ -236,11 +236,23 @@ TEST_F(WindowOnXvfb, EditNudgesAFapOnTheHeadAndSavesALibraryThatPoseRenders) {
   Background edit(x.env() + kRostro + " edit --entry joy --select open_jaw" + libraries, out, err);
   const std::string window = x.find_window("rostro edit", seconds(60));
   ASSERT_FALSE(window.empty()) << read_text(err);
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   // The sliders' panel is the left 460 pixels of the 1280x800 window, the head the rest.
   const cv::Rect head(460, 0, 820, 800);
-  ASSERT_TRUE(x.screenshot(dir / "before.png"));
-  const cv::Mat before = cv::imread((dir / "before.png").string());
+  // Screenshots until `done` holds of one, for up to 20 s (software rendering on a loaded
+  // machine draws a frame in well under a second, but not always within a fixed wait).
+  auto screenshot_until = [&](const fs::path& png, auto done) {
+    cv::Mat shot;
+    const auto until = std::chrono::steady_clock::now() + seconds(20);
+    do {
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      if (x.screenshot(png)) shot = cv::imread(png.string());
+    } while ((shot.empty() || !done(shot)) && std::chrono::steady_clock::now() < until);
+    return shot;
+  };
+  const cv::Mat before = screenshot_until(dir / "before.png", [&](const cv::Mat& shot) {
+    return drawn_share(shot(head)) > 0.15 && light_share(shot(cv::Rect(0, 0, 460, 800))) > 0.01;
+  });
+  ASSERT_FALSE(before.empty());
   EXPECT_GT(drawn_share(before(head)), 0.15);
   EXPECT_GT(light_share(before(cv::Rect(0, 0, 460, 800))), 0.01);  // the sliders' text
 
@@ -248,9 +260,10 @@ TEST_F(WindowOnXvfb, EditNudgesAFapOnTheHeadAndSavesALibraryThatPoseRenders) {
   x.key(window,
         "Prior Prior Prior Prior Prior Prior Prior Prior Prior Prior Prior Prior "
         "Prior Prior Prior");
-  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
-  ASSERT_TRUE(x.screenshot(dir / "after.png"));
-  const cv::Mat after = cv::imread((dir / "after.png").string());
+  const cv::Mat after = screenshot_until(dir / "after.png", [&](const cv::Mat& shot) {
+    return changed_share(before(head), shot(head)) > 0.002;
+  });
+  ASSERT_FALSE(after.empty());
   EXPECT_GT(changed_share(before(head), after(head)), 0.002) << dir;
   EXPECT_EQ(changed_share(before(cv::Rect(0, 200, 460, 600)), after(cv::Rect(0, 200, 460, 600))),
             0.0);  // the other sliders stay as they were
