@@ -559,8 +559,8 @@ struct MarkerTracker::Impl {
   // lost before at 0.6 with the line still on, and the edge fit then put 1 in 8 of them 1-1.6 px
   // off (Xface fear: head yaw 9.4 -> 12.7 %).
   DotOptions centroid_dots, inner_corner_dots, inner_corner_dots_large;
-  // As options.dots and centroid_dots, for the dots below the nose and on the cheeks
-  // (TrackerOptions::surround_test_upper_face_only).
+  // As options.dots and centroid_dots, for the dots off the eyes, the brows and the nose: the
+  // lips, the jaw, the cheeks (TrackerOptions::surround_test_upper_face_only).
   DotOptions lower_face_dots, lower_face_centroid_dots;
   // Per marker, set in the constructor: [large_dots][i].
   std::array<std::vector<const DotOptions*>, 2> measured_with;
