@@ -76,6 +76,13 @@ bool at_eye(DotRole r) {
          r == DotRole::OtherEye;
 }
 
+// Whether a dot lies among the face's dark round features, where a blob in a dark ring is one
+// of them (the pupil in its iris, a nostril, a lid dot against its lashes seen from a brow
+// dot): the eyes, the brows and the nose (TrackerOptions::surround_test_upper_face_only).
+bool by_dark_features(const FeaturePointId& fp) {
+  return fp.group == 3 || fp.group == 4 || fp.group == 9;
+}
+
 }  // namespace
 
 struct MarkerTracker::Impl {
@@ -149,8 +156,7 @@ struct MarkerTracker::Impl {
       const DotRole r = roles[i];
       const bool edge_fit = tracking::at_eye(r) || options.edge_fit_elsewhere ||
                             (options.brows.edge_fit_mid_brows && r == DotRole::MidBrow);
-      const int group = points[i].group;
-      const bool upper_face = group == 3 || group == 4 || group == 9;
+      const bool upper_face = by_dark_features(points[i]);
       const DotOptions* plain = edge_fit
                                     ? (upper_face ? &options.dots : &lower_face_dots)
                                     : (upper_face ? &centroid_dots : &lower_face_centroid_dots);

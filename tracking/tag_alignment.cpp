@@ -20,17 +20,7 @@ constexpr double kSettledPx = 0.01;  // a step that moves no corner further ends
 constexpr double kFarOff = 0.35;
 constexpr double kMostFarOff = 0.03;
 constexpr double kLeastContrast = 20;  // grey levels from ink to paper
-
-// The lighting's regressors at a sample: seen = (gain + gain_x x + gain_y y) * pattern
-// + blur * laplacian + offset + offset_x x + offset_y y. The light falls off across a tag on a
-// curved headband or a turned face, darkening ink and paper alike (the gain's slope) and
-// adding its own glow (the offset's). Padded to eight lanes with a 0.
-void set_lighting_row(TagPattern::Sample& s, float value, float laplacian) {
-  const float row[TagPattern::kLightingLanes] = {value, value * s.x, value * s.y, laplacian,
-                                                 1.0f,  s.x,         s.y,         0.0f};
-  std::copy(std::begin(row), std::end(row), s.light);
-}
-constexpr int kBlurTerm = 3;  // the Laplacian's place in the lighting row
+constexpr int kBlurTerm = 3;           // the Laplacian's place in the lighting row
 
 // The pattern's corners in its own coordinates, in libapriltag's order: bottom-left,
 // bottom-right, top-right, top-left of the upright tag (image y down).
@@ -51,6 +41,15 @@ cv::Point2d apply(const cv::Matx33d& h, cv::Point2d p) {
 }
 
 }  // namespace
+
+// The lighting's regressors at a sample: seen = (gain + gain_x x + gain_y y) * pattern
+// + blur * laplacian + offset + offset_x x + offset_y y. The light falls off across a tag on a
+// curved headband or a turned face, darkening ink and paper alike (the gain's slope) and
+// adding its own glow (the offset's). Padded to eight lanes with a 0.
+void TagPattern::Sample::set_lighting(float value, float laplacian) {
+  const float row[kLightingLanes] = {value, value * x, value * y, laplacian, 1.0f, x, y, 0.0f};
+  std::copy(std::begin(row), std::end(row), light);
+}
 
 TagPattern::TagPattern(const cv::Mat& bits, int black_width, double cell_px, double softness_px)
     : cell_px_(cell_px), softness_px_(softness_px) {
@@ -131,7 +130,7 @@ TagPattern::TagPattern(const cv::Mat& bits, int black_width, double cell_px, dou
         s.sd[i] = static_cast<float>(sd[i]);
         for (int j = 0; j < 8; ++j) hessian(i, j) += sd[i] * sd[j];
       }
-      set_lighting_row(s, pattern(r, c), laplacian(r, c));
+      s.set_lighting(pattern(r, c), laplacian(r, c));
       samples_.push_back(s);
     }
   hessian_inverse_ = hessian.inv(cv::DECOMP_CHOLESKY);
@@ -196,9 +195,9 @@ std::optional<TagAlignment> TagPattern::align(const cv::Mat& gray,
     float light_sums[kLightingLanes], sd_sums[8];
     cv::v_store(light_sums, light_lo), cv::v_store(light_sums + 4, light_hi);
     cv::v_store(sd_sums, sd_lo), cv::v_store(sd_sums + 4, sd_hi);
-    // The lighting and the blur, by least squares (set_lighting_row). A symmetric blur moves no
-    // edge, but fitted with a pattern of the wrong softness it pulls the corners toward the
-    // code's busier side; the blur term absorbs that.
+    // The lighting and the blur, by least squares (Sample::set_lighting). A symmetric blur
+    // moves no edge, but fitted with a pattern of the wrong softness it pulls the corners toward
+    // the code's busier side; the blur term absorbs that.
     cv::Vec<double, kLighting> b;
     for (int i = 0; i < kLighting; ++i) b[i] = light_sums[i];
     const cv::Vec<double, kLighting> x = lighting_inverse_ * b;

@@ -39,6 +39,7 @@ class TagPattern {
   double cell_px() const { return cell_px_; }
   double softness_px() const { return softness_px_; }
 
+ private:
   static constexpr int kLighting = 7;       // the lighting model's terms (tag_alignment.cpp)
   static constexpr int kLightingLanes = 8;  // padded for the vector unit
   struct Sample {
@@ -47,9 +48,10 @@ class TagPattern {
     // The lighting model's regressors there: the pattern (0 ink to 1 paper, softened), its
     // slopes, its Laplacian (what a little more blur adds), and the offset's terms.
     float light[kLightingLanes];
+    // Sets `light` from the pattern's value and Laplacian at (x, y).
+    void set_lighting(float value, float laplacian);
   };
 
- private:
   std::vector<Sample> samples_;
   cv::Matx<double, 8, 8> hessian_inverse_;
   cv::Matx<double, kLighting, kLighting> lighting_inverse_;  // of its regressors' normal matrix
