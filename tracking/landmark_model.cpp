@@ -120,4 +120,12 @@ std::vector<cv::Point2d> LandmarkModel::fit(const cv::Mat& gray, const cv::Rect2
   return impl_->predictor(dlib::cv_image<unsigned char>(gray), rect);
 }
 
+std::vector<cv::Point2d> LandmarkModel::mean_shape() const {
+  const dlib::matrix<float, 0, 1>& shape = impl_->predictor.initial_shape;
+  std::vector<cv::Point2d> points(static_cast<size_t>(shape.size() / 2));
+  for (size_t i = 0; i < points.size(); ++i)
+    points[i] = {shape(static_cast<long>(2 * i)), shape(static_cast<long>(2 * i + 1))};
+  return points;
+}
+
 }  // namespace rostro::tracking

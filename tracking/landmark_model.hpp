@@ -36,6 +36,9 @@ class LandmarkModel {
                                     double threshold);
   // The 68 landmarks (pixels, iBUG order) of the face in `box`, a box as the detector gives.
   std::vector<cv::Point2d> fit(const cv::Mat& gray, const cv::Rect2d& box) const;
+  // The model's average face (iBUG order) in its box as fractions of it: (0, 0) the box's top
+  // left, (1, 1) its bottom right. Where a face's landmarks should lie, this gives its box.
+  std::vector<cv::Point2d> mean_shape() const;
 
  private:
   struct Impl;

@@ -395,10 +395,13 @@ struct MarkerTracker::Impl {
     return known;
   }
 
-  // Where dlib's landmarks put the layout's dots on the face the tags are on (face_prior.hpp):
-  // the face is looked for around the layout's nose tip as the tags place it, at the size
-  // they give (a face about 140 mm wide); without tags, the largest face.
+  // Where dlib's landmarks put the layout's dots on the face the tags are on (face_prior.hpp).
   std::map<std::string, cv::Point2d> expected_places(const std::vector<TagDetection>& tags) {
+    return face_prior.expected(gray, layout, layout_to_image(tags));
+  }
+
+  // The layout's frontal millimetres to pixels, as the tags read place it.
+  std::optional<cv::Matx23d> layout_to_image(const std::vector<TagDetection>& tags) const {
     std::vector<cv::Point2d> from, to;
     for (const MarkerSpec& m : layout.markers)
       for (const TagDetection& t : tags)
@@ -406,17 +409,10 @@ struct MarkerTracker::Impl {
           const auto corners = m.tag_corners_frontal();
           for (int k = 0; k < 4; ++k) from.push_back(corners[k]), to.push_back(t.corners[k]);
         }
-    std::optional<cv::Point2d> near;
-    double face_px = std::min(gray.cols, gray.rows) / 3.0;
-    if (!from.empty()) {
-      const cv::Mat s = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
-      if (!s.empty()) {
-        const cv::Matx23d m(s);
-        near = apply(m, cv::Point2d(0, 0));
-        face_px = 140 * std::hypot(m(0, 0), m(1, 0));
-      }
-    }
-    return face_prior.expected(gray, layout, near, face_px);
+    if (from.empty()) return std::nullopt;
+    const cv::Mat s = cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
+    if (s.empty()) return std::nullopt;
+    return cv::Matx23d(s);
   }
 
   // Where the unseen markers should be: the layout mapped by the seen ones.
