@@ -105,8 +105,8 @@ void run_track(const TrackArgs& args) {
     const tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
     writer.write(tracked);
     if (!tracker->started()) ++never_started;
-    // The identification is reported at the end; a check during the take that dropped a
-    // dot named otherwise, as it happens.
+    // The identification is reported at the end; a check during the take that renamed a dot,
+    // as it happens.
     if (!tracked.identification.empty() && tracked.identification.starts_with("identities"))
       std::fprintf(stderr, "rostro track: frame %ld: %s\n", frame, tracked.identification.c_str());
     for (const auto& m : tracked.markers) valid_sum += m.valid, ++marker_sum;

@@ -104,7 +104,6 @@ struct MarkerTracker::Impl {
   FacePrior face_prior{options.identification.face_model};
   std::map<std::string, cv::Point2d> expected_start;  // Identification::places
   std::string note;                                   // this frame's TrackedFrame::identification
-  std::set<std::string> refound;  // dots found again since the last identity check
   cv::Mat gray;          // this frame; a view of the caller's image when it is grey already
   cv::Mat gray_storage;  // conversion buffer for colour input, reused frame to frame
   // The LK pyramids cover only the region the markers occupy (plus room for motion), not the
@@ -331,6 +330,9 @@ struct MarkerTracker::Impl {
       return;
     }
     place_unseen(known);
+    unconfirmed.clear(), called_otherwise.clear();
+    for (size_t i = 0; i < states.size(); ++i)
+      if (states[i].valid && !states[i].spec->is_tag()) unconfirmed.insert(i);
     if (options.align_tags)
       timed("align_tags", [&] {
         for (size_t i = 0; i < states.size(); ++i)
@@ -603,14 +605,21 @@ struct MarkerTracker::Impl {
     timed("reacquire_lost", [&] { reacquire_lost(flow); });
   }
 
-  // 5. The followed dots named again from their places and the tags read
-  //    (TrackerOptions::identity_check_every). Only a dot found again since the last check is
-  //    in question: LK following a dot frame to frame keeps its name, re-acquisition (4.)
-  //    chooses one, and a jaw dropping while the chin is lost puts the chin boss at the
-  //    chin's place in the flat arrangement (Xface fear: dropping it there handed the chin the
-  //    chin boss's dot for 87 frames). The naming is trusted only when confident; a dot it
-  //    calls otherwise is dropped rather than renamed, and looked for again under its own name.
+  static constexpr double kDecisive = 0.4;  // other place's distance / own place's, at most
+  std::map<std::string, std::string> called_otherwise;  // the last check's misnamed dots
+  std::set<size_t> unconfirmed;  // dots named since the last check that confirmed them
+
+  // 5. The followed dots named again from their places, the tags read and, with a landmark
+  //    model, the face's own shape (TrackerOptions::identity_check_every). A take can start
+  //    on a wrong name (a dot too faint to be found at the start, its neighbour's dot nearer
+  //    its place) or take one on (re-acquisition chooses a name); LK then follows the wrong
+  //    name to the end. Only a name not yet confirmed is in question: a face deforming beyond
+  //    the arrangements the naming knows (the jaw dropped, the chin boss at the chin's flat
+  //    place) fools the naming, not LK following a dot from a confirmed name. The naming is
+  //    trusted only when confident, and with a landmark model only when the landmarks agree
+  //    with the tags (as at the start).
   void check_identities() {
+    if (unconfirmed.empty()) return;
     std::vector<Dot> places;
     std::vector<size_t> owner;
     std::vector<TagDetection> tags;
@@ -628,44 +637,124 @@ struct MarkerTracker::Impl {
         places.push_back(d), owner.push_back(i);
       }
     }
-    const std::set<std::string> doubted = std::move(refound);
-    refound.clear();
-    if (tags.empty() || doubted.empty()) return;
-    const Identification id = identify_markers(layout, places, tags, options.identification);
-    if (!id.confidence.confident) return;
+    if (tags.empty()) return;
+    const Identification id =
+        identify_markers(layout, places, tags, options.identification, face_places(tags));
+    if (!id.confidence.confident || (face_prior.available() && !id.confidence.face_model)) return;
     // Each followed dot's name in the naming; a dot it leaves out is no evidence.
     std::map<std::string, std::string> called;
     for (size_t k = 0; k < places.size(); ++k)
       for (const auto& [name, dot] : id.dots)
         if (dot.center == places[k].center) called[states[owner[k]].spec->id] = name;
-    // A dot followed onto another's place leaves that one lost, or the two trade places; a
-    // chain of dots each at the next one's place, ending in one the naming leaves out, is the
-    // lower face stretched beyond the flat arrangement (the jaw dropped), not a wrong name.
-    auto valid_by_name = [&](const std::string& name) {
+    auto index_of = [&](const std::string& name) {
       const MarkerSpec* spec = layout.find(name);
-      return spec != nullptr && states[static_cast<size_t>(spec - layout.markers.data())].valid;
+      return spec != nullptr ? static_cast<size_t>(spec - layout.markers.data()) : states.size();
     };
-    std::vector<size_t> wrong;
-    for (size_t k = 0; k < places.size(); ++k) {
-      const std::string& own = states[owner[k]].spec->id;
-      if (!doubted.count(own)) continue;  // followed by LK all along: its name holds
-      const auto it = called.find(own);
-      if (it == called.end() || it->second == own) continue;
-      const auto back = called.find(it->second);
-      if (!valid_by_name(it->second) || (back != called.end() && back->second == own))
-        wrong.push_back(k);
+    // The calls that hold: decisive and the same as on the last check.
+    std::map<size_t, size_t> calls;               // state index -> the index of its new name
+    std::map<std::string, std::string> misnamed;  // this check's calls, for the next one
+    for (const auto& [own, name] : called) {
+      const size_t from = index_of(own), to = index_of(name);
+      if (!unconfirmed.count(from)) continue;  // LK has followed it since a check confirmed it
+      const auto own_place = id.places.find(own);
+      if (own_place == id.places.end()) continue;
+      const cv::Point2d at = states[from].position;
+      // The place of the name nearest the dot but the one under test.
+      auto nearest_but = [&](const std::string& skip) {
+        double best = std::numeric_limits<double>::max();
+        for (const auto& [other, place] : id.places)
+          if (other != skip) best = std::min(best, cv::norm(at - place));
+        return best;
+      };
+      if (name == own) {
+        // Confirmed: decisively nearer its own place than any other name's.
+        if (cv::norm(at - own_place->second) <= kDecisive * nearest_but(own))
+          unconfirmed.erase(from);
+        continue;
+      }
+      if (to == states.size() || states[to].spec->is_tag()) continue;
+      // Decisively nearer the other name's place than its own: where the two are about as
+      // near (a blink brings the lids together, blur smears the eye) the naming guesses.
+      const auto other_place = id.places.find(name);
+      if (other_place == id.places.end()) continue;
+      if (cv::norm(at - other_place->second) > kDecisive * cv::norm(at - own_place->second))
+        continue;
+      misnamed[own] = name;
+      // A face deforming beyond the arrangements the naming knows (a mouth wide open) fools
+      // it for a moment; a wrong name stays. So the call must hold on two checks in a row.
+      const auto before = called_otherwise.find(own);
+      if (before != called_otherwise.end() && before->second == name) calls[from] = to;
     }
-    std::vector<std::string> renamed;
-    for (size_t k : wrong) {
-      MarkerState& s = states[owner[k]];
-      s.valid = false;
-      s.lost_reason = LostReason::Identity;
-      renamed.push_back(s.spec->id + " (at " + called[s.spec->id] + "'s place)");
+    called_otherwise = std::move(misnamed);
+    rename(moving_together(calls));
+  }
+
+  // The calls (state index -> the index of its new name) that can be followed: a dot takes a
+  // name no followed dot holds, or one whose holder takes another in turn (a chain), or the
+  // dots of a ring each take the next one's name. A chain ending in a name its holder keeps
+  // stays as it is.
+  std::vector<std::pair<size_t, size_t>> moving_together(const std::map<size_t, size_t>& calls) {
+    std::set<size_t> moving;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (const auto& [from, to] : calls)
+        if (!moving.count(from) && (!states[to].valid || moving.count(to)))
+          moving.insert(from), grew = true;
     }
-    if (renamed.empty()) return;
-    note = "identities checked: dropped " + std::to_string(renamed.size()) + " dot" +
-           (renamed.size() > 1 ? "s" : "") + " named otherwise:";
-    for (const std::string& r : renamed) note += " " + r;
+    for (const auto& [from, to] : calls) {
+      if (moving.count(from)) continue;
+      std::vector<size_t> ring{from};
+      for (size_t at = to; at != from;) {
+        const auto next = calls.find(at);
+        if (next == calls.end() || moving.count(at) ||
+            std::find(ring.begin(), ring.end(), at) != ring.end()) {
+          ring.clear();
+          break;
+        }
+        ring.push_back(at), at = next->second;
+      }
+      moving.insert(ring.begin(), ring.end());
+    }
+    std::vector<std::pair<size_t, size_t>> moves;
+    for (size_t from : moving) moves.push_back({from, calls.at(from)});
+    return moves;
+  }
+
+  // Each (from, to) dot takes the name `to`; a name left behind is lost (LostReason::Identity),
+  // and the frame reports the renaming.
+  void rename(const std::vector<std::pair<size_t, size_t>>& moves) {
+    if (moves.empty()) return;
+    const std::vector<MarkerState> before = states;
+    for (const auto& [from, to] : moves) states[from].valid = false;
+    note = "identities checked: renamed";
+    for (const auto& [from, to] : moves) {
+      MarkerState& s = states[to];
+      s.valid = true, s.position = before[from].position, s.quality = before[from].quality;
+      s.lost_reason = LostReason::None;
+      note += " " + before[from].spec->id + " -> " + s.spec->id;
+    }
+    for (const auto& [from, to] : moves)
+      if (!states[from].valid) states[from].lost_reason = LostReason::Identity;
+  }
+
+  // Layout dot id -> pixels where the landmark model puts the dots on the face the tags
+  // place, fitted without searching the frame (face_prior.hpp) in the box the tags give it.
+  // (Not the followed dots' box: dots under wrong names would place it.) Empty without a model.
+  std::map<std::string, cv::Point2d> face_places(const std::vector<TagDetection>& tags) {
+    if (!face_prior.available()) return {};
+    const auto to_image = layout_to_image(tags);
+    if (!to_image) return {};
+    std::map<std::string, cv::Point2d> placed;
+    for (const MarkerSpec& m : layout.markers)
+      if (!m.is_tag()) placed[m.id] = apply(*to_image, m.frontal());
+    const auto box = face_prior.placed_box(layout, placed);
+    if (!box) return {};
+    // The model reads the face around its box; the grey image is converted where needed.
+    const double pad = 0.25 * box->width;
+    ensure_gray(cv::Rect(cv::Point(static_cast<int>(box->x - pad), static_cast<int>(box->y - pad)),
+                         cv::Point(static_cast<int>(box->br().x + pad) + 1,
+                                   static_cast<int>(box->br().y + pad) + 1)));
+    return face_prior.fitted(gray, layout, *box);
   }
 
   // 1. LK on the valid dots and the valid tags' corners, forward and back.
@@ -1242,7 +1331,8 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
   for (MarkerState& s : m.states) {
     if (s.valid) s.lost_reason = LostReason::None;
     // Found again after being lost: its name was chosen by re-acquisition, not carried by LK.
-    if (s.valid && s.lost_frames > 0 && m.started_at != frame) m.refound.insert(s.spec->id);
+    if (s.valid && s.lost_frames > 0 && m.started_at != frame)
+      m.unconfirmed.insert(static_cast<size_t>(&s - m.states.data()));
     s.lost_frames = s.valid ? 0 : s.lost_frames + 1;
     if (!s.valid) s.quality = 0;
     MarkerObservation o;

@@ -28,9 +28,11 @@
 //     dot is only accepted between its eye's corner line and not far beyond its start distance from
 //     it. The lower lip's dots are looked for together, below the upper lip, and found again
 //     only where their shape fits (LowerLipOptions::together);
-//  5. every few frames with the tags read, the dots found again since the last check are
-//     named again from where they are (TrackerOptions::identity_check_every): one
-//     re-acquired at another's place is dropped and looked for again under its own name.
+//  5. every few frames with the tags read, while a dot's name is unconfirmed (named at the
+//     start or found again since), the followed dots are named again from where they are,
+//     the tags and the landmark model's reading of the face (TrackerOptions::
+//     identity_check_every): a name is confirmed when the dot lies decisively at its own
+//     place, and a dot called by another name on two checks in a row takes it.
 
 #include <map>
 #include <memory>
@@ -97,10 +99,12 @@ struct TrackerOptions {
   int min_identified = 3;  // markers needed to start tracking
   // When an identification is confident enough to start on (identify.hpp).
   IdentificationOptions identification;
-  // Every this many frames, with the tags read, the dots found again since the last check are
-  // named again from their places and the tags (identify.hpp); one a confident naming calls
-  // otherwise is dropped (LostReason::Identity) and looked for again under its own name, and
-  // the frame reports it. 0: never.
+  // Every this many frames, with the tags read and a dot's name unconfirmed, the followed dots
+  // are named again from their places, the tags and, with a landmark model, the face's shape
+  // (identify.hpp). A dot decisively nearer another name's place than its own (within 0.4 of
+  // the distance) on two checks in a row takes that name when no followed dot holds it, or
+  // when its holder moves on in turn; the name it leaves is lost (LostReason::Identity), and
+  // the frame reports the renaming. 0: never.
   int identity_check_every = 10;
   // Threads the followed dots' centres are measured on each frame (0: the machine's cores;
   // OpenCV's cv::setNumThreads caps them). Any count gives the same tracks: each dot is
@@ -135,7 +139,7 @@ enum class LostReason {
   Jump,           // moved unlike its neighbours (max_relative_motion, max_relative_motion_px)
   Coincident,     // on the spot of another dot (both are dropped)
   LidBand,        // a lid dot off its band (lid_overshoot_fraction, lid_reach)
-  Identity,       // named otherwise by a confident identification during the take
+  Identity,       // its dot took another name at an identity check during the take
   TagLost,        // a tag not detected again near where LK moved its corners
 };
 inline constexpr int kLostReasonCount = static_cast<int>(LostReason::TagLost) + 1;
