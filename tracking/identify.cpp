@@ -55,6 +55,9 @@ constexpr int kNameRounds = 3;
 // The face model's offsets from its affine are averaged with this much weight on none.
 constexpr double kFaceShrink = 0.5;
 constexpr double kOwnWeight = 0.2;
+// A detection this near its dot's place (share of the spacing) keeps the name whatever lies
+// near (IdentificationOptions::unnamed_rival).
+constexpr double kSureWithin = 0.25;
 
 // The column given to each row that minimises the total cost (rows <= columns): the
 // Hungarian method with potentials, O(rows^2 x columns). -1 for no row (never, when every row
@@ -112,6 +115,7 @@ void IdentificationOptions::validate() const {
       .positive("gate", gate)
       .at_least("size_factor", size_factor, 1)
       .not_negative("ink_weight", ink_weight)
+      .not_negative("unnamed_rival", unnamed_rival)
       .at_least("shape_factor", shape_factor, 1)
       .within("alone_share", alone_share, 0, 1)
       .within("min_explained", min_explained, 0, 1)
@@ -486,6 +490,22 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
             only = static_cast<int>(k), ++count;
         if (count == 1) named[i] = only, taken[static_cast<size_t>(only)] = true;
       }
+    }
+    // A name in doubt left out (IdentificationOptions::unnamed_rival).
+    {
+      std::vector<size_t> in_doubt;
+      for (size_t i = 0; i < n; ++i) {
+        if (named[i] < 0) continue;
+        const cv::Point2d at = dots[static_cast<size_t>(named[i])].center;
+        const double own = cv::norm(at - predicted[i]);
+        if (own < kSureWithin * spacing[i] * scale) continue;
+        for (size_t j = 0; j < n; ++j)
+          if (named[j] < 0 && cv::norm(at - predicted[j]) < options.unnamed_rival * own) {
+            in_doubt.push_back(i);
+            break;
+          }
+      }
+      for (size_t i : in_doubt) named[i] = -1;
     }
     for (size_t i = 0; i < n; ++i) id.places[layout_dots[i]->id] = predicted[i];
     best.match = named;
