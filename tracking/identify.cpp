@@ -55,9 +55,6 @@ constexpr int kNameRounds = 3;
 // The face model's offsets from its affine are averaged with this much weight on none.
 constexpr double kFaceShrink = 0.5;
 constexpr double kOwnWeight = 0.2;
-// A detection this near its dot's place (share of the spacing) keeps the name whatever lies
-// near (IdentificationOptions::unnamed_rival).
-constexpr double kSureWithin = 0.25;
 
 // The column given to each row that minimises the total cost (rows <= columns): the
 // Hungarian method with potentials, O(rows^2 x columns). -1 for no row (never, when every row
@@ -116,6 +113,7 @@ void IdentificationOptions::validate() const {
       .at_least("size_factor", size_factor, 1)
       .not_negative("ink_weight", ink_weight)
       .not_negative("unnamed_rival", unnamed_rival)
+      .not_negative("sure_within", sure_within)
       .at_least("shape_factor", shape_factor, 1)
       .within("alone_share", alone_share, 0, 1)
       .within("min_explained", min_explained, 0, 1)
@@ -498,7 +496,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
         if (named[i] < 0) continue;
         const cv::Point2d at = dots[static_cast<size_t>(named[i])].center;
         const double own = cv::norm(at - predicted[i]);
-        if (own < kSureWithin * spacing[i] * scale) continue;
+        if (own < options.sure_within * spacing[i] * scale) continue;
         for (size_t j = 0; j < n; ++j)
           if (named[j] < 0 && cv::norm(at - predicted[j]) < options.unnamed_rival * own) {
             in_doubt.push_back(i);

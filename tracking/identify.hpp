@@ -56,12 +56,14 @@ struct IdentificationOptions {
   // the hand's, a blur's). The tracker treats it apart likewise (LowerLipOptions::together).
   // false: every dot a neighbour of every other.
   bool lower_lip_apart = true;
-  // A name in doubt is left out: a dot that lies farther than a quarter of its spacing from
+  // A name in doubt is left out: a dot that lies farther than sure_within of its spacing from
   // its place, with the place of a dot left unnamed within unnamed_rival x that distance of
   // it, could be either (the mid-brow dot unseen in the brow hair, the upper-lid dot below it
   // nearer the mid-brow's place than the lid's); naming it one of them is a coin toss that LK
-  // then follows to the end. 0: never left out.
+  // then follows to the end. MarkerTracker's re-acquisition leaves such a dot to the other
+  // lost marker likewise. 0: never left out.
   double unnamed_rival = 1.5;
+  double sure_within = 0.25;
   // A confident identification meets all of these.
   double min_explained = 0.8;  // share of the layout's dots given a detection
   double max_residual = 0.3;   // IdentificationConfidence::residual

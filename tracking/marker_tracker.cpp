@@ -1255,15 +1255,19 @@ struct MarkerTracker::Impl {
     return true;
   }
 
-  // A dot that belongs to a valid neighbour, or lies nearer another lost marker's expected
-  // place than to this one's, is not marker i.
+  // A dot that belongs to a valid neighbour, or lies about as near another lost marker's
+  // expected place as this one's (IdentificationOptions::unnamed_rival, as at the start), is
+  // not marker i.
   bool belongs_to(size_t i, cv::Point2d at, double scale) const {
+    const IdentificationOptions& naming = options.identification;
     const double own = cv::norm(at - predicted_at(i));
     for (size_t j = 0; j < states.size(); ++j) {
       if (j == i || states[j].spec->is_tag()) continue;
       if (states[j].valid && cv::norm(states[j].position - at) < 0.5 * spacing[j] * scale)
         return false;
-      if (!states[j].valid && has_prediction[j] && cv::norm(predicted_at(j) - at) < own)
+      if (!states[j].valid && has_prediction[j] &&
+          cv::norm(predicted_at(j) - at) < naming.unnamed_rival * own &&
+          own > naming.sure_within * spacing[i] * scale)
         return false;
     }
     return true;
@@ -1426,6 +1430,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, identification.ink_weight),
       ROSTRO_NAMED_OPTION(O, identification.lower_lip_apart),
       ROSTRO_NAMED_OPTION(O, identification.unnamed_rival),
+      ROSTRO_NAMED_OPTION(O, identification.sure_within),
       ROSTRO_NAMED_OPTION(O, identification.min_explained),
       ROSTRO_NAMED_OPTION(O, identification.max_residual),
       ROSTRO_NAMED_OPTION(O, identification.min_margin),
