@@ -385,6 +385,7 @@ struct LoopArgs {
   std::string file, layout, markdown, only, out;
   FaceTrackerArgs face;  // --markerless: the head rendered bare, tracked by its landmarks
   std::vector<std::string> tracker_options, solver_options;  // NAME=VALUE
+  double truth_noise_px = 0;
 };
 
 std::string describe_drive(const eval::LoopScenario& s) {
@@ -420,6 +421,7 @@ void eval_loop(const LoopArgs& a) {
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     eval::LoopScenario s = chosen[i];
     if (a.face.markerless) s.aim = s.markerless_aim;
+    s.truth_noise_px = a.truth_noise_px;
     if (!s.skip_reason.empty()) {
       std::fprintf(stderr, "skipped %s: %s\n", s.name.c_str(), s.skip_reason.c_str());
       skipped += fmt::format("- {} skipped: {}\n", s.name, s.skip_reason);
@@ -449,7 +451,7 @@ void eval_loop(const LoopArgs& a) {
       tracking::write_tracks(dir / (r.name + ".tracks.csv"), r.tracks);
       tracking::write_tracks(dir / (r.name + ".truth.csv"), r.truth_tracks);
       for (const auto& score : r.scores) {
-        std::string label = eval::method_label(score.method);
+        std::string label = score.label();
         std::replace(label.begin(), label.end(), ' ', '-');
         label.erase(std::remove(label.begin(), label.end(), ','), label.end());
         write_fap_stream(dir / (r.name + "." + label + ".fap"), score.estimate);
@@ -673,8 +675,14 @@ void add_eval_commands(CLI::App& app) {
                    "also write each scenario's truth and mapped streams here as .fap "
                    "(NAME.truth.fap, NAME.ceres.fap, ...) and its tracked and exact marker "
                    "tracks (NAME.tracks.csv, NAME.truth.csv)");
-  loop->add_option("--markdown", lo.markdown,
-                   "write the tables into this Markdown file's \"## Closed loop: FAPs\" section");
+  CLI::Option* loop_markdown = loop->add_option(
+      "--markdown", lo.markdown,
+      "write the tables into this Markdown file's \"## Closed loop: FAPs\" section");
+  loop->add_option("--truth-noise", lo.truth_noise_px,
+                   "also fit the exact tracks with Gaussian noise of this sigma (px) on each "
+                   "coordinate: how precise tracks must be for the aim (not with --markdown)")
+      ->check(CLI::PositiveNumber)
+      ->excludes(loop_markdown);
   loop->add_option(
       "--tracker-option", lo.tracker_options,
       "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. eyes.max_dot_growth=1.3");
@@ -684,7 +692,9 @@ void add_eval_commands(CLI::App& app) {
   loop->footer(
       "Drives under shared: come from $ROSTRO_SHARED (default ../shared); absent ones are "
       "skipped.\n\nExample:\n  rostro eval loop --only still,turns\n  rostro eval loop "
-      "--markdown docs/accuracy.md\n  rostro eval loop --markerless --only still,joy");
+      "--markdown docs/accuracy.md\n  rostro eval loop --markerless --only still,joy\n  rostro "
+      "eval "
+      "loop --markerless --only still --truth-noise 0.5");
   loop->callback([] { eval_loop(lo); });
 
   static AlignmentArgs al;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 
 #include "eval/scenario_file.hpp"
@@ -171,6 +172,18 @@ std::string fap_cell(const LoopResult& r, const LoopScore& s, int id) {
   return out;
 }
 
+// The exact tracks with independent Gaussian noise of `sigma` pixels on each coordinate of
+// every valid observation: a tracker's error without its bias.
+std::vector<tracking::TrackedFrame> with_noise(std::vector<tracking::TrackedFrame> tracks,
+                                               double sigma, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> noise(0.0, sigma);
+  for (tracking::TrackedFrame& f : tracks)
+    for (tracking::MarkerObservation& o : f.markers)
+      if (o.valid) o.position += cv::Point2d(noise(random), noise(random));
+  return tracks;
+}
+
 }  // namespace
 
 std::filesystem::path default_closed_loop_path() {
@@ -214,6 +227,8 @@ std::string method_label(LoopMethod m) {
       return "seed2d";
     case LoopMethod::CeresOnTruth:
       return "ceres, exact tracks";
+    case LoopMethod::CeresOnNoisyTruth:
+      return "ceres, noisy exact tracks";
   }
   return "?";
 }
@@ -222,6 +237,12 @@ const FapError* LoopScore::find(int fap) const {
   for (const FapError& e : eval.faps)
     if (e.fap == fap) return &e;
   return nullptr;
+}
+
+std::string LoopScore::label() const {
+  if (method == LoopMethod::CeresOnNoisyTruth)
+    return fmt::format("ceres, exact tracks + {:g} px noise", noise_px);
+  return method_label(method);
 }
 
 const LoopScore& LoopResult::score(LoopMethod m) const {
@@ -272,7 +293,9 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   const long calibration_frames = std::max(1L, std::lround(s.calibration_seconds * fps));
   std::optional<calib::ActorProfile> ceres_profile;
   mapping::MapperOptions ceres_options;
-  for (LoopMethod m : kLoopMethods) {
+  std::vector<LoopMethod> methods(kLoopMethods.begin(), kLoopMethods.end());
+  if (s.truth_noise_px > 0) methods.push_back(LoopMethod::CeresOnNoisyTruth);
+  for (LoopMethod m : methods) {
     mapping::MapperOptions options;
     options.method = m == LoopMethod::Seed2d ? mapping::Method::Seed2d : mapping::Method::Ceres;
     options.solver = solver_options;
@@ -281,7 +304,12 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
     FapStream est;
     est.header.name = "closed loop " + s.name + " " + method_label(m);
     est.header.fps = fps;
-    const auto& input = m == LoopMethod::CeresOnTruth ? truth.truth : tracked;
+    std::vector<tracking::TrackedFrame> noisy;
+    if (m == LoopMethod::CeresOnNoisyTruth)
+      noisy = with_noise(truth.truth, s.truth_noise_px, s.synth.seed);
+    const auto& input = m == LoopMethod::CeresOnTruth        ? truth.truth
+                        : m == LoopMethod::CeresOnNoisyTruth ? noisy
+                                                             : tracked;
     for (const auto& f : input)
       for (FapFrame& out : take.push(f)) est.frames.push_back(std::move(out));
     for (FapFrame& out : take.finish()) est.frames.push_back(std::move(out));
@@ -289,6 +317,7 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
 
     LoopScore score;
     score.method = m;
+    if (m == LoopMethod::CeresOnNoisyTruth) score.noise_px = s.truth_noise_px;
     score.calibration_frames = take.calibration_frames_used();
     score.fitted_frames = std::count_if(est.frames.begin(), est.frames.end(),
                                         [](const FapFrame& f) { return f.mask.any(); });
@@ -377,12 +406,12 @@ std::string loop_definitions(bool markerless) {
 
 std::string loop_summary_text(const std::vector<LoopResult>& results) {
   std::string out =
-      fmt::format("{:<10} {:<20} {:>6} {:>7} {:>7}  {:<30} {:>8} {:>4}  {}\n", "scenario", "method",
+      fmt::format("{:<10} {:<34} {:>6} {:>7} {:>7}  {:<30} {:>8} {:>4}  {}\n", "scenario", "method",
                   "FAPs", "mean %", "max %", "worst FAP", "coverage", "aim", "");
   for (const LoopResult& r : results)
     for (const LoopScore& s : r.scores)
-      out += fmt::format("{:<10} {:<20} {:>6} {:>7} {:>7}  {:<30} {:>7}% {:>3.0f}%  {}\n", r.name,
-                         method_label(s.method), fmt::format("{}/{}", s.scored, r.tracked.size()),
+      out += fmt::format("{:<10} {:<34} {:>6} {:>7} {:>7}  {:<30} {:>7}% {:>3.0f}%  {}\n", r.name,
+                         s.label(), fmt::format("{}/{}", s.scored, r.tracked.size()),
                          pct(s.mean_share), pct(s.max_share), worst_label(s), pct(s.coverage),
                          100 * r.aim, met_label(s));
   return out;
@@ -394,10 +423,10 @@ std::string loop_summary_markdown(const std::vector<LoopResult>& results) {
       "worst FAP | coverage | aim | |\n|---|---:|---|---:|---:|---:|---|---:|---:|---|\n";
   for (const LoopResult& r : results)
     for (const LoopScore& s : r.scores)
-      out += fmt::format("| {} | {} | {} | {} / {} | {} | {} | {} | {} % | {:.0f} % | {} |\n",
-                         r.title, r.frames, method_label(s.method), s.scored, r.tracked.size(),
-                         pct(s.mean_share), pct(s.max_share), worst_label(s), pct(s.coverage),
-                         100 * r.aim, met_label(s));
+      out +=
+          fmt::format("| {} | {} | {} | {} / {} | {} | {} | {} | {} % | {:.0f} % | {} |\n", r.title,
+                      r.frames, s.label(), s.scored, r.tracked.size(), pct(s.mean_share),
+                      pct(s.max_share), worst_label(s), pct(s.coverage), 100 * r.aim, met_label(s));
   return out;
 }
 
@@ -405,7 +434,7 @@ std::string loop_fap_table_text(const LoopResult& r) {
   std::string out =
       fmt::format("{} ({} frames): RMS in the FAP's unit (share of range)\n", r.title, r.frames);
   out += fmt::format("{:<4} {:<26} {:<5} {:>8}", "FAP", "name", "unit", "range");
-  for (const LoopScore& s : r.scores) out += fmt::format(" {:>28}", method_label(s.method));
+  for (const LoopScore& s : r.scores) out += fmt::format(" {:>28}", s.label());
   out += "\n";
   for (int id : r.tracked) {
     out += fmt::format("{:<4} {:<26} {:<5} {:>8}", id, fap_name(id),
@@ -422,7 +451,7 @@ std::string loop_fap_table_markdown(const LoopResult& r) {
   std::string out = "| FAP | name | unit | truth range (all frames) |";
   std::string rule = "|---:|---|---|---:|";
   for (const LoopScore& s : r.scores) {
-    out += " " + method_label(s.method) + " RMS (% of range) |";
+    out += " " + s.label() + " RMS (% of range) |";
     rule += "---:|";
   }
   out += "\n" + rule + "\n";

@@ -56,6 +56,10 @@ struct LoopScenario {
   HeadSweeps head;                        // start_s is set to the lead-in
   double aim = 0.05;                      // RMS / range, every tracked FAP
   double markerless_aim = 0.10;           // the same for the bare head (`--markerless`)
+  // > 0: a fourth mapping, the Ceres fit on the exact tracks with Gaussian noise of this
+  // sigma (pixels, each coordinate, seeded by synth.seed) added: how precise a tracker's points
+  // must be for the aim.
+  double truth_noise_px = 0;
   SynthOptions synth;
 };
 
@@ -75,7 +79,8 @@ std::filesystem::path shared_dir();
 // The driving stream of a scenario: drive, cut, neutral lead-in, head sweeps.
 FapStream loop_drive(const LoopScenario& scenario);
 
-enum class LoopMethod { Ceres, Seed2d, CeresOnTruth };
+// CeresOnNoisyTruth runs only when the scenario sets truth_noise_px.
+enum class LoopMethod { Ceres, Seed2d, CeresOnTruth, CeresOnNoisyTruth };
 inline constexpr std::array<LoopMethod, 3> kLoopMethods = {LoopMethod::Ceres, LoopMethod::Seed2d,
                                                            LoopMethod::CeresOnTruth};
 std::string method_label(LoopMethod m);
@@ -83,8 +88,9 @@ std::string method_label(LoopMethod m);
 // One method's score over the tracked FAPs.
 struct LoopScore {
   LoopMethod method = LoopMethod::Ceres;
-  FapStream estimate;  // what the mapping wrote, frame by frame
-  FapEvalResult eval;  // every FAP both streams set
+  double noise_px = 0;  // CeresOnNoisyTruth: the noise's sigma
+  FapStream estimate;   // what the mapping wrote, frame by frame
+  FapEvalResult eval;   // every FAP both streams set
   long calibration_frames = 0;
   long fitted_frames = 0;  // output frames with any FAP set
   // Over the tracked FAPs this method outputs:
@@ -97,6 +103,7 @@ struct LoopScore {
   int worst_fap = 0;
   bool met = false;  // every tracked FAP scored and within the aim
   const FapError* find(int fap) const;
+  std::string label() const;  // method_label(), with the noise's sigma where there is one
 };
 
 struct LoopResult {
@@ -111,7 +118,7 @@ struct LoopResult {
   // The marker tracks the tracker followed on the rendered frames, and the exact ones the
   // renderer projected (for `rostro eval tracks`).
   std::vector<tracking::TrackedFrame> tracks, truth_tracks;
-  std::vector<LoopScore> scores;  // in kLoopMethods order
+  std::vector<LoopScore> scores;  // in kLoopMethods order, then CeresOnNoisyTruth if run
   const LoopScore& score(LoopMethod m) const;
 };
 

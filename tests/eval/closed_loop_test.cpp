@@ -187,6 +187,33 @@ TEST_F(ClosedLoopRun, StillHeadOpenJawWithinFivePercent) {
   EXPECT_NE(table.find("open_jaw"), std::string::npos);
 }
 
+// The exact tracks with Gaussian noise (`rostro eval loop --truth-noise`): a fourth score,
+// labelled with its sigma, whose error grows with the noise (about in proportion: the fit is
+// linear in small errors).
+TEST_F(ClosedLoopRun, NoisyExactTracksScoreWorseWithMoreNoise) {
+  LoopScenario s;
+  s.name = s.title = "still, 2 s";
+  s.seconds = 2;
+  std::vector<double> mean_share;
+  for (double sigma : {0.5, 2.0}) {
+    s.truth_noise_px = sigma;
+    LoopResult r;
+    try {
+      r = run(s);
+    } catch (const render::RenderUnavailable& e) {
+      GTEST_SKIP() << "no OpenGL: " << e.what();
+    }
+    ASSERT_EQ(r.scores.size(), 4u);
+    const LoopScore& noisy = r.score(LoopMethod::CeresOnNoisyTruth);
+    EXPECT_EQ(noisy.label(), sigma == 0.5 ? "ceres, exact tracks + 0.5 px noise"
+                                          : "ceres, exact tracks + 2 px noise");
+    EXPECT_EQ(noisy.scored, r.score(LoopMethod::CeresOnTruth).scored);
+    EXPECT_GT(noisy.mean_share, 2 * r.score(LoopMethod::CeresOnTruth).mean_share) << sigma;
+    mean_share.push_back(noisy.mean_share);
+  }
+  EXPECT_GT(mean_share[1], 2 * mean_share[0]);  // four times the noise
+}
+
 // A head turned +25 degrees in FAP 49 (toward the face's left) reads back with the same sign.
 TEST_F(ClosedLoopRun, HeadYawInFap49ReadsBackWithItsSign) {
   LoopScenario s;
