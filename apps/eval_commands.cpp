@@ -691,10 +691,11 @@ void add_eval_commands(CLI::App& app) {
                    "pose_prior_weight=0");
   loop->footer(
       "Drives under shared: come from $ROSTRO_SHARED (default ../shared); absent ones are "
-      "skipped.\n\nExample:\n  rostro eval loop --only still,turns\n  rostro eval loop "
-      "--markdown docs/accuracy.md\n  rostro eval loop --markerless --only still,joy\n  rostro "
-      "eval "
-      "loop --markerless --only still --truth-noise 0.5");
+      "skipped.\n\nExample:\n"
+      "  rostro eval loop --only still,turns\n"
+      "  rostro eval loop --markdown docs/accuracy.md\n"
+      "  rostro eval loop --markerless --only still,joy\n"
+      "  rostro eval loop --markerless --only still --truth-noise 0.5");
   loop->callback([] { eval_loop(lo); });
 
   static AlignmentArgs al;

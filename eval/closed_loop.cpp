@@ -301,8 +301,11 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
     options.solver = solver_options;
     options.hierarchy = mapping::default_hierarchy();  // as `rostro capture` maps by default
     mapping::TakeMapper take(layout, options, truth.intrinsics, std::nullopt, calibration_frames);
+    LoopScore score;
+    score.method = m;
+    if (m == LoopMethod::CeresOnNoisyTruth) score.noise_px = s.truth_noise_px;
     FapStream est;
-    est.header.name = "closed loop " + s.name + " " + method_label(m);
+    est.header.name = "closed loop " + s.name + " " + score.label();
     est.header.fps = fps;
     std::vector<tracking::TrackedFrame> noisy;
     if (m == LoopMethod::CeresOnNoisyTruth)
@@ -315,9 +318,6 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
     for (FapFrame& out : take.finish()) est.frames.push_back(std::move(out));
     est.header.frame_count = static_cast<long>(est.frames.size());
 
-    LoopScore score;
-    score.method = m;
-    if (m == LoopMethod::CeresOnNoisyTruth) score.noise_px = s.truth_noise_px;
     score.calibration_frames = take.calibration_frames_used();
     score.fitted_frames = std::count_if(est.frames.begin(), est.frames.end(),
                                         [](const FapFrame& f) { return f.mask.any(); });
