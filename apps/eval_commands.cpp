@@ -114,10 +114,10 @@ void eval_tracks(const TracksArgs& a) {
       "%ld frames scored (%ld missing)  NME mean %.4f median %.4f  AUC@%.2f %.3f  "
       "failure %.1f%%\n"
       "error px mean %.2f p95 %.2f  lost %ld observations in %ld frames  swaps %ld (%ld "
-      "events)\n",
+      "events)  astray %ld\n",
       r.scored_frames, r.missing_frames, r.nme.mean, r.nme.median, o.threshold, r.auc,
       100 * r.failure_rate, r.error_px.mean, r.error_px.p95, r.lost_observations, r.lost_frames,
-      r.swap_observations, r.swap_events);
+      r.swap_observations, r.swap_events, r.astray_observations);
 }
 
 struct FapsArgs {
@@ -326,9 +326,10 @@ void eval_photos(const PhotosArgs& a) {
         "move each dot up to 0.12 eye widths off its landmark at random and nudge the brow, "
         "lid and corner dots onto skin, so the two do not coincide, but a face whose dots sit "
         "farther from the landmarks than that has not been tried.\n\n{}\nCentre errors of the dots "
-        "and tags over "
-        "scored "
-        "observations (visible in the truth, valid in the estimate); hidden but reported: "
+        "and tags over scored observations (visible in the truth, valid in the estimate); "
+        "astray: scored observations as far from their own dot as a swap (0.05 of the eye "
+        "corners' distance) but nearer it than any other marker's, a name on something that "
+        "is no marker; hidden but reported: "
         "valid in the estimate while not visible in the truth; reacquire: the most frames a "
         "marker took, back in view after an occlusion, to be reported within 2 px (- no "
         "occlusion, never: not before the take ended or it was hidden again).\n\n{}\nLost "

@@ -177,27 +177,30 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
 
 std::string photo_table_markdown(const std::vector<PhotoRow>& rows) {
   std::string out =
-      "| scene | median px | p95 px | swaps (events) | lost / visible | hidden but reported | "
-      "worst reacquire (frames) |\n|---|---:|---:|---:|---:|---:|---:|\n";
+      "| scene | median px | p95 px | swaps (events) | astray | lost / visible | "
+      "hidden but reported | worst reacquire (frames) "
+      "|\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const PhotoRow& r : rows) {
     const TrackEvalResult& e = r.suite.result;
-    out += fmt::format("| {} | {:.2f} | {:.2f} | {} ({}) | {} / {} | {} | {} |\n", r.suite.title,
-                       e.error_px.median, e.error_px.p95, e.swap_observations, e.swap_events,
-                       e.lost_observations, e.lost_observations + e.scored_observations,
-                       r.hidden_reported, reacquire_text(r));
+    out += fmt::format("| {} | {:.2f} | {:.2f} | {} ({}) | {} | {} / {} | {} | {} |\n",
+                       r.suite.title, e.error_px.median, e.error_px.p95, e.swap_observations,
+                       e.swap_events, e.astray_observations, e.lost_observations,
+                       e.lost_observations + e.scored_observations, r.hidden_reported,
+                       reacquire_text(r));
   }
   return out;
 }
 
 std::string photo_table_text(const std::vector<PhotoRow>& rows) {
   std::string out =
-      fmt::format("{:<14} {:>9} {:>9} {:>14} {:>14} {:>8} {:>10}\n", "scene", "median px", "p95 px",
-                  "swaps (events)", "lost/visible", "hidden+", "reacquire");
+      fmt::format("{:<14} {:>9} {:>9} {:>14} {:>7} {:>14} {:>8} {:>10}\n", "scene", "median px",
+                  "p95 px", "swaps (events)", "astray", "lost/visible", "hidden+", "reacquire");
   for (const PhotoRow& r : rows) {
     const TrackEvalResult& e = r.suite.result;
     out += fmt::format(
-        "{:<14} {:>9.2f} {:>9.2f} {:>14} {:>14} {:>8} {:>10}\n", r.suite.name, e.error_px.median,
-        e.error_px.p95, fmt::format("{} ({})", e.swap_observations, e.swap_events),
+        "{:<14} {:>9.2f} {:>9.2f} {:>14} {:>7} {:>14} {:>8} {:>10}\n", r.suite.name,
+        e.error_px.median, e.error_px.p95,
+        fmt::format("{} ({})", e.swap_observations, e.swap_events), e.astray_observations,
         fmt::format("{}/{}", e.lost_observations, e.lost_observations + e.scored_observations),
         r.hidden_reported, reacquire_text(r));
   }

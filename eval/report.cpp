@@ -41,6 +41,7 @@ std::string track_report_json(const TrackEvalResult& r, const ReportSources& sou
                        {"lost", m.lost},
                        {"swap_frames", m.swap_frames},
                        {"swap_events", m.swap_events},
+                       {"astray_frames", m.astray_frames},
                        {"error_px", stats_json(m.error_px)},
                        {"nme", stats_json(m.nme)}});
   json frames = json::array();
@@ -51,7 +52,8 @@ std::string track_report_json(const TrackEvalResult& r, const ReportSources& sou
                       {"norm_fallback", f.norm_fallback},
                       {"scored", f.scored},
                       {"lost", f.lost},
-                      {"swaps", f.swaps}});
+                      {"swaps", f.swaps},
+                      {"astray", f.astray}});
   const json doc = {{"kind", "rostro.eval.tracks"},
                     {"version", 1},
                     {"truth", sources.truth},
@@ -77,6 +79,7 @@ std::string track_report_json(const TrackEvalResult& r, const ReportSources& sou
                     {"observations", r.scored_observations},
                     {"lost", {{"observations", r.lost_observations}, {"frames", r.lost_frames}}},
                     {"swaps", {{"observations", r.swap_observations}, {"events", r.swap_events}}},
+                    {"astray", r.astray_observations},
                     {"markers", markers},
                     {"per_frame", frames}};
   return doc.dump(2) + "\n";
@@ -93,12 +96,14 @@ std::string track_summary_markdown(const TrackEvalResult& r, const ReportSources
       r.norm_distance_median);
   md += "| NME mean | NME median | NME p95 | AUC@" + fmt::format("{:.2f}", a) + " | failure@" +
         fmt::format("{:.2f}", a) +
-        " | error px mean | error px p95 | lost obs. (frames) | swaps (events) |\n";
-  md += "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        " | error px mean | error px p95 | lost obs. (frames) | swaps (events) | astray |\n";
+  md += "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   md += fmt::format(
-      "| {:.4f} | {:.4f} | {:.4f} | {:.3f} | {:.1f}% | {:.2f} | {:.2f} | {} ({}) | {} ({}) |\n\n",
+      "| {:.4f} | {:.4f} | {:.4f} | {:.3f} | {:.1f}% | {:.2f} | {:.2f} | {} ({}) | {} ({}) | {} "
+      "|\n\n",
       r.nme.mean, r.nme.median, r.nme.p95, r.auc, 100 * r.failure_rate, r.error_px.mean,
-      r.error_px.p95, r.lost_observations, r.lost_frames, r.swap_observations, r.swap_events);
+      r.error_px.p95, r.lost_observations, r.lost_frames, r.swap_observations, r.swap_events,
+      r.astray_observations);
   md += "## Per marker (pixels)\n\n";
   md += "| marker | fp | scored | mean | median | p95 | max | lost | swap events |\n";
   md += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";

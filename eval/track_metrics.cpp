@@ -103,6 +103,7 @@ struct MarkerAccumulator {
   long lost = 0;
   long swap_frames = 0;
   long swap_events = 0;
+  long astray_frames = 0;
   bool swapped_last_frame = false;
 };
 
@@ -191,7 +192,8 @@ TrackEvalResult evaluate_tracks(std::span<const TrackedFrame> truth,
       acc.errors_nme.push_back(err / fr.norm_distance);
       all_errors_px.push_back(err);
 
-      // Identity swap: nearer some other visible marker's truth than its own, by enough.
+      // Identity swap: nearer some other visible marker's truth than its own, by enough;
+      // astray: as far off, near no other.
       bool swapped = false;
       if (err > options.swap_threshold * fr.norm_distance) {
         for (const MarkerObservation* other : visible) {
@@ -201,6 +203,7 @@ TrackEvalResult evaluate_tracks(std::span<const TrackedFrame> truth,
             break;
           }
         }
+        if (!swapped) ++fr.astray, ++acc.astray_frames;
       }
       if (swapped) {
         ++fr.swaps;
@@ -216,6 +219,7 @@ TrackEvalResult evaluate_tracks(std::span<const TrackedFrame> truth,
     r.lost_observations += fr.lost;
     if (fr.lost > 0) ++r.lost_frames;
     r.swap_observations += fr.swaps;
+    r.astray_observations += fr.astray;
     r.frames.push_back(fr);
     r.frame_nme.push_back(fr.nme);
   }
@@ -237,6 +241,7 @@ TrackEvalResult evaluate_tracks(std::span<const TrackedFrame> truth,
     m.lost = acc.lost;
     m.swap_frames = acc.swap_frames;
     m.swap_events = acc.swap_events;
+    m.astray_frames = acc.astray_frames;
     r.swap_events += acc.swap_events;
     ordered.emplace_back(acc.order, std::move(m));
   }

@@ -20,6 +20,9 @@
 //   markers that nearly touch (inner and outer lip at rest) from counting as swapped when
 //   the estimate is good anyway. A run of consecutive swapped frames of one marker is one
 //   swap event.
+// - Astray: a scored marker as far from its own truth as a swap (beyond swap_threshold * d)
+//   but nearer its own truth than any other marker's: named on something that is no marker
+//   (a lip corner, a nostril) or followed off its dot. As wrong as a swap, and as silent.
 
 #include <span>
 #include <string>
@@ -52,6 +55,7 @@ struct MarkerResult {
   long lost = 0;
   long swap_frames = 0;
   long swap_events = 0;
+  long astray_frames = 0;
 };
 
 struct FrameResult {
@@ -62,6 +66,7 @@ struct FrameResult {
   int scored = 0;
   int lost = 0;
   int swaps = 0;
+  int astray = 0;
 };
 
 struct TrackEvalResult {
@@ -86,6 +91,7 @@ struct TrackEvalResult {
   long lost_frames = 0;  // frames with at least one lost marker
   long swap_observations = 0;
   long swap_events = 0;
+  long astray_observations = 0;
   std::vector<MarkerResult> markers;  // in order of first appearance in the truth
 };
 

@@ -49,6 +49,7 @@ TEST(Report, TrackJsonHoldsTheFigures) {
   EXPECT_EQ(j["lost"]["observations"], 2);
   EXPECT_EQ(j["lost"]["frames"], 1);
   EXPECT_EQ(j["swaps"]["events"], 0);
+  EXPECT_EQ(j["astray"], 0);
   ASSERT_EQ(j["markers"].size(), 2u);
   EXPECT_EQ(j["markers"][0]["fp"], "3.12");
   EXPECT_NEAR(j["markers"][0]["error_px"]["median"].get<double>(), 4.0, 1e-12);

@@ -58,6 +58,7 @@ TEST(TrackMetrics, AConstantOffsetGivesAKnownNme) {
   EXPECT_DOUBLE_EQ(r.failure_rate, 0.0);
   EXPECT_EQ(r.lost_observations, 0);
   EXPECT_EQ(r.swap_observations, 0);
+  EXPECT_EQ(r.astray_observations, 0);  // 5 px is not beyond 0.05 * 100 px
   ASSERT_EQ(r.markers.size(), 4u);
   EXPECT_EQ(r.markers[0].marker, "m3.12");  // truth order
   EXPECT_EQ(r.markers[2].scored, 10);
@@ -92,6 +93,26 @@ TEST(TrackMetrics, ASwapIsCounted) {
   EXPECT_EQ(r.frames[5].swaps, 0);
   // Each swapped frame: two markers 60 px off out of four -> NME (0+0+60+60)/4/100 = 0.3.
   EXPECT_NEAR(r.frames[2].nme, 0.3, 1e-12);
+}
+
+TEST(TrackMetrics, AMarkerFarFromItsDotButNearNoOtherIsAstray) {
+  const auto truth = truth_sequence(4);
+  std::vector<TrackedFrame> est = truth;
+  // Frames 1..3: the left mouth corner 20 px below its dot (on the lip, say), nearer its own
+  // truth than any other marker's.
+  for (int i = 1; i <= 3; ++i) est[i].markers[3].position += cv::Point2d(0, 20);
+  const TrackEvalResult r = evaluate_tracks(truth, est);
+  EXPECT_EQ(r.astray_observations, 3);
+  EXPECT_EQ(r.swap_observations, 0);
+  EXPECT_EQ(r.markers[3].astray_frames, 3);
+  EXPECT_EQ(r.frames[0].astray, 0);
+  EXPECT_EQ(r.frames[2].astray, 1);
+  // The same 20 px toward the other mouth corner is a swap, not astray.
+  for (int i = 1; i <= 3; ++i) est[i].markers[3].position = truth[i].markers[3].position;
+  est[2].markers[3].position += cv::Point2d(-40, 0);
+  const TrackEvalResult s = evaluate_tracks(truth, est);
+  EXPECT_EQ(s.astray_observations, 0);
+  EXPECT_EQ(s.swap_observations, 1);
 }
 
 TEST(TrackMetrics, ASmallErrorNearAnotherMarkerIsNoSwap) {
