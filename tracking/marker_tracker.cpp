@@ -316,6 +316,40 @@ struct MarkerTracker::Impl {
 
   // ---- start of the take ---------------------------------------------------------------
 
+  // 6. (TrackerOptions::second_look_after.) The frame identified afresh; where the naming is
+  //    confident (with a landmark model, on the face's landmarks), at least as sure as the
+  //    start's (IdentificationConfidence::margin) and moves a followed name onto another dot,
+  //    the take starts again here.
+  bool looked_again = false;  // since the take last started from scratch
+  void second_look(long frame) {
+    ensure_gray({0, 0, gray.cols, gray.rows});
+    const std::vector<TagDetection> tags =
+        layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
+    const Identification id = identify_markers(layout, detect_dots(gray, centroid_dots), tags,
+                                               options.identification, expected_places(tags));
+    if (!id.confidence.confident || (face_prior.available() && !id.confidence.face_model)) return;
+    // No less sure than the naming the take started on: a face still entering the frame can
+    // read less surely a few frames on (a brow dot named on the lid's below it).
+    if (id.confidence.margin < identification.margin) return;
+    std::vector<std::string> moved;
+    for (size_t i = 0; i < states.size(); ++i) {
+      const auto named = id.dots.find(states[i].spec->id);
+      if (!states[i].valid || named == id.dots.end()) continue;
+      if (cv::norm(named->second.center - states[i].position) > 0.5 * spacing[i] * face_scale)
+        moved.push_back(states[i].spec->id);
+    }
+    if (moved.empty()) return;
+    const std::vector<MarkerState> before = states;
+    start();
+    if (!started) {
+      states = before, started = true;  // the frame's own naming failed after all: keep on
+      return;
+    }
+    started_at = frame;
+    note = "identified again (" + std::to_string(moved.size()) + " names moved: " + moved.front() +
+           (moved.size() > 1 ? ", ..." : "") + "), " + describe(identification);
+  }
+
   void start() {
     ensure_gray({0, 0, gray.cols, gray.rows});
     std::vector<TagDetection> tags = timed("detect_tags", [&] {
@@ -1298,6 +1332,11 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     });
     m.follow();
     const long followed = frame - m.started_at;
+    if (m.options.second_look_after > 0 && followed == m.options.second_look_after &&
+        m.start_positions.empty() && !m.looked_again) {
+      m.looked_again = true;
+      m.timed("second_look", [&] { m.second_look(frame); });
+    }
     if (m.options.identity_check_every > 0 && followed % m.options.identity_check_every == 0 &&
         m.start_positions.empty())
       m.timed("check_identities", [&] { m.check_identities(); });
@@ -1317,6 +1356,7 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     m.start();
     if (m.started) {
       m.started_at = frame;
+      m.looked_again = false;
       m.note = m.start_positions.empty() ? "identified, " + describe(m.identification)
                                          : "started from the starting positions";
       const cv::Rect need = m.needed_region();
@@ -1371,6 +1411,7 @@ void TrackerOptions::validate() const {
       .not_negative("max_relative_motion_px", max_relative_motion_px)
       .not_negative("min_identified", min_identified)
       .not_negative("identity_check_every", identity_check_every)
+      .not_negative("second_look_after", second_look_after)
       .not_negative("threads", threads);
 }
 
@@ -1438,6 +1479,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, identification.max_tag_error),
       ROSTRO_NAMED_OPTION(O, identification.max_elongation),
       ROSTRO_NAMED_OPTION(O, identity_check_every),
+      ROSTRO_NAMED_OPTION(O, second_look_after),
       ROSTRO_NAMED_OPTION(O, threads),
   };
   set_named_option(options, table, "TrackerOptions", assignment);

@@ -32,7 +32,10 @@
 //     start or found again since), the followed dots are named again from where they are,
 //     the tags and the landmark model's reading of the face (TrackerOptions::
 //     identity_check_every): a name is confirmed when the dot lies decisively at its own
-//     place, and a dot called by another name on two checks in a row takes it.
+//     place, and a dot called by another name on two checks in a row takes it;
+//  6. once, a few frames after the start, the frame is identified afresh as at the start
+//     (TrackerOptions::second_look_after): where that confident naming puts a name on
+//     another dot, the take starts again there.
 
 #include <map>
 #include <memory>
@@ -106,6 +109,16 @@ struct TrackerOptions {
   // when its holder moves on in turn; the name it leaves is lost (LostReason::Identity), and
   // the frame reports the renaming. 0: never.
   int identity_check_every = 10;
+  // This many frames after the start, the whole frame is identified again as at the start
+  // (the tags detected, every dot found, the landmarks fitted); when that naming is confident,
+  // no less sure than the start's (IdentificationConfidence::margin at least as large), and
+  // puts any followed name more than half its spacing from where it is followed, tracking
+  // starts again on this frame (the frame reports "identified again"). A start is the first
+  // confident frame, which may still be smeared by motion (a blur fading out) or show a face
+  // half in view: the dots merged with the features beside them (a lip corner, the eye's
+  // corner) are named on those features there, and LK follows them to the end; a few frames on
+  // they stand apart. The frames before keep the first names. 0: never.
+  int second_look_after = 10;
   // Threads the followed dots' centres are measured on each frame (0: the machine's cores;
   // OpenCV's cv::setNumThreads caps them). Any count gives the same tracks: each dot is
   // measured on its own, then all are judged and applied in layout order.
