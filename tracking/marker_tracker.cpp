@@ -316,21 +316,14 @@ struct MarkerTracker::Impl {
 
   // ---- start of the take ---------------------------------------------------------------
 
-  // 6. (TrackerOptions::second_look_after.) The frame identified afresh; where the naming is
-  //    confident (with a landmark model, on the face's landmarks), at least as sure as the
-  //    start's (IdentificationConfidence::margin) and moves a followed name onto another dot,
-  //    the take starts again here.
+  // 6. (TrackerOptions::second_look_after.) The frame named afresh; where the naming is
+  //    confident, at least as sure as the start's (IdentificationConfidence::margin) and moves
+  //    a followed name onto another dot, the take starts again here on that naming.
   bool looked_again = false;  // since the take last started from scratch
   void second_look(long frame) {
     ensure_gray({0, 0, gray.cols, gray.rows});
-    const std::vector<TagDetection> tags =
-        layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
-    const Identification id = identify_markers(layout, detect_dots(gray, centroid_dots), tags,
-                                               options.identification, expected_places(tags));
-    if (!id.confidence.confident || (face_prior.available() && !id.confidence.face_model)) return;
-    // No less sure than the naming the take started on: a face still entering the frame can
-    // read less surely a few frames on (a brow dot named on the lid's below it).
-    if (id.confidence.margin < identification.margin) return;
+    const Identification id = name_frame(detect_all_tags());
+    if (!id.confidence.confident || id.confidence.margin < identification.margin) return;
     std::vector<std::string> moved;
     for (size_t i = 0; i < states.size(); ++i) {
       const auto named = id.dots.find(states[i].spec->id);
@@ -338,31 +331,36 @@ struct MarkerTracker::Impl {
       if (cv::norm(named->second.center - states[i].position) > 0.5 * spacing[i] * face_scale)
         moved.push_back(states[i].spec->id);
     }
-    if (moved.empty()) return;
-    const std::vector<MarkerState> before = states;
-    start();
-    if (!started) {
-      states = before, started = true;  // the frame's own naming failed after all: keep on
-      return;
-    }
+    if (moved.empty() || !enough(id.dots.size() + id.tags.size())) return;
+    begin(adopt(id));
     started_at = frame;
     note = "identified again (" + std::to_string(moved.size()) + " names moved: " + moved.front() +
            (moved.size() > 1 ? ", ..." : "") + "), " + describe(identification);
   }
 
+  std::vector<TagDetection> detect_all_tags() {
+    return layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
+  }
+
   void start() {
     ensure_gray({0, 0, gray.cols, gray.rows});
-    std::vector<TagDetection> tags = timed("detect_tags", [&] {
-      return layout.tag_count() > 0 ? full_detector.detect(gray) : std::vector<TagDetection>{};
-    });
+    const std::vector<TagDetection> tags = timed("detect_tags", [&] { return detect_all_tags(); });
     const std::vector<std::pair<cv::Point2d, cv::Point2d>> known = timed("identify", [&] {
-      return start_positions.empty() ? identify(tags) : find_at_start_positions(tags);
+      return start_positions.empty() ? adopt(name_frame(tags)) : find_at_start_positions(tags);
     });
     const bool doubtful = start_positions.empty() && !identification.confident;
-    if (doubtful || static_cast<int>(known.size()) < std::max(3, options.min_identified)) {
+    if (doubtful || !begin(known))
       for (MarkerState& s : states) s.valid = false, s.lost_reason = LostReason::Unidentified;
-      return;
-    }
+  }
+
+  bool enough(size_t placed) const {
+    return static_cast<int>(placed) >= std::max(3, options.min_identified);
+  }
+
+  // Tracking begun from the markers placed (frontal layout position -> image position); false,
+  // nothing changed but the states' places, with too few of them.
+  bool begin(const std::vector<std::pair<cv::Point2d, cv::Point2d>>& known) {
+    if (!enough(known.size())) return false;
     place_unseen(known);
     unconfirmed.clear(), called_otherwise.clear();
     for (size_t i = 0; i < states.size(); ++i)
@@ -375,6 +373,7 @@ struct MarkerTracker::Impl {
     scale_to_dots(measure_seen());
     measure_spacing();
     started = true;
+    return true;
   }
 
   // The markers found where the file of starting positions puts them (within a few pixels), as
@@ -401,19 +400,25 @@ struct MarkerTracker::Impl {
   }
 
   // Every dot and tag in the frame, identified (identify.hpp).
-  std::vector<std::pair<cv::Point2d, cv::Point2d>> identify(const std::vector<TagDetection>& tags) {
-    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
-    auto dots = detect_dots(gray, centroid_dots);
+  // The dots found on the whole frame named (identify.hpp). With a landmark model at hand,
+  // the layout's arrangement alone is not enough to start on: on a real face it names the
+  // lower face a row off (the dots of a smile, a long jaw). The face is found on a later frame
+  // (it entered, turned back, came into focus).
+  Identification name_frame(const std::vector<TagDetection>& tags) {
     const auto expected = expected_places(tags);
-    Identification id = identify_markers(layout, dots, tags, options.identification, expected);
-    // With a landmark model at hand, the layout's arrangement alone is not enough to start on:
-    // on a real face it names the lower face a row off (the dots of a smile, a long jaw). The
-    // face is found on a later frame (it entered, turned back, came into focus).
+    Identification id = identify_markers(layout, detect_dots(gray, centroid_dots), tags,
+                                         options.identification, expected);
     if (face_prior.available() && !id.confidence.face_model && id.confidence.confident) {
       id.confidence.confident = false;
       id.confidence.doubt = expected.empty() ? "the landmark model found no face"
                                              : "the face's landmarks disagree with the tags";
     }
+    return id;
+  }
+
+  // The markers placed where `id` names them, as frontal layout position -> image position.
+  std::vector<std::pair<cv::Point2d, cv::Point2d>> adopt(const Identification& id) {
+    std::vector<std::pair<cv::Point2d, cv::Point2d>> known;
     identification = id.confidence;
     expected_start = id.places;
     for (MarkerState& s : states) {
@@ -1337,8 +1342,9 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
       m.looked_again = true;
       m.timed("second_look", [&] { m.second_look(frame); });
     }
+    // (Not on a frame the second look has just named afresh.)
     if (m.options.identity_check_every > 0 && followed % m.options.identity_check_every == 0 &&
-        m.start_positions.empty())
+        m.start_positions.empty() && m.started_at != frame)
       m.timed("check_identities", [&] { m.check_identities(); });
     bool any =
         std::any_of(m.states.begin(), m.states.end(), [](const MarkerState& s) { return s.valid; });
