@@ -140,8 +140,12 @@ void Editor::export_pose(const cv::Mat& image) {
 void Editor::panel() {
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImVec2(kPanelWidth, ImGui::GetIO().DisplaySize.y));
+  // The scrollbar's place is kept even while the open sections fit: the panel is about as tall
+  // as the window, and a scrollbar that came and went with a few pixels of overflow (from the
+  // first frame to the next, or as a section opens) narrowed every slider under the pointer.
   ImGui::Begin("rostro edit", nullptr,
-               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_AlwaysVerticalScrollbar);
   if (ImGui::BeginCombo("entry", entry_label(entry).c_str())) {
     for (int i = 0; i < kEntryCount; ++i)
       if (ImGui::Selectable(entry_label(i).c_str(), i == entry)) entry = i;

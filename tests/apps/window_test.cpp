@@ -265,8 +265,10 @@ TEST_F(WindowOnXvfb, EditNudgesAFapOnTheHeadAndSavesALibraryThatPoseRenders) {
   });
   ASSERT_FALSE(after.empty());
   EXPECT_GT(changed_share(before(head), after(head)), 0.002) << dir;
-  EXPECT_EQ(changed_share(before(cv::Rect(0, 200, 460, 600)), after(cv::Rect(0, 200, 460, 600))),
-            0.0);  // the other sliders stay as they were
+  // The other sliders stay as they were (left of the scrollbar, whose grab shrinks once ImGui
+  // has measured the panel's content, a frame or two after it first draws it).
+  const cv::Rect other_sliders(0, 200, 440, 600);
+  EXPECT_EQ(changed_share(before(other_sliders), after(other_sliders)), 0.0);
 
   x.key(window, "ctrl+s");
   EXPECT_TRUE(wait_for_text(out, "saved ", seconds(30))) << read_text(out) << read_text(err);
