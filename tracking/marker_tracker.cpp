@@ -318,7 +318,9 @@ struct MarkerTracker::Impl {
 
   // 6. (TrackerOptions::second_look_after.) The frame named afresh; where the naming is
   //    confident, at least as sure as the start's (IdentificationConfidence::margin) and moves
-  //    a followed name onto another dot, the take starts again here on that naming.
+  //    a followed name onto another dot, the take starts again here on that naming. Where it
+  //    only puts names a dot's width or so from where they are followed, each of those names
+  //    goes to whichever of the two dots looks more like a dot (placed_by_look).
   bool looked_again = false;  // since the take last started from scratch
   void second_look(long frame) {
     ensure_gray({0, 0, gray.cols, gray.rows});
@@ -331,11 +333,58 @@ struct MarkerTracker::Impl {
       if (cv::norm(named->second.center - states[i].position) > 0.5 * spacing[i] * face_scale)
         moved.push_back(states[i].spec->id);
     }
-    if (moved.empty() || !enough(id.dots.size() + id.tags.size())) return;
+    if (moved.empty()) {
+      const std::vector<std::string> placed = placed_by_look(id);
+      if (!placed.empty())
+        note = "second look: " + std::to_string(placed.size()) +
+               " names placed by their dots' look (" + placed.front() +
+               (placed.size() > 1 ? ", ...)" : ")");
+      return;
+    }
+    if (!enough(id.dots.size() + id.tags.size())) return;
     begin(adopt(id));
     started_at = frame;
     note = "identified again (" + std::to_string(moved.size()) + " names moved: " + moved.front() +
            (moved.size() > 1 ? ", ..." : "") + "), " + describe(identification);
+  }
+
+  // A dot worn on the skin is round and has no dark ring around it; the face's own dark
+  // features beside the dots (the eye's corner, the pupil in its iris, the lip corner) are
+  // elongated or lie in darker surroundings. Zero for a clean dot, larger the less like one.
+  static double unlike_a_dot(const Dot& d) { return d.surround + (d.elongation - 1); }
+
+  // The names the second look's naming puts more than a dot's width from where they are
+  // followed (or finds while they are lost), each placed on the naming's dot where that looks
+  // more like a dot than the one followed, and no other followed dot is on it. Which of the two
+  // is the dot cannot be told by where they lie: LK carries an eye dot onto the eye's corner
+  // while a blur fades (the followed one is wrong), and the landmarks that place the names lie
+  // toward the eyes' dark features on the rendered head (the naming is wrong).
+  std::vector<std::string> placed_by_look(const Identification& id) {
+    std::vector<std::string> placed;
+    for (size_t i = 0; i < states.size(); ++i) {
+      MarkerState& s = states[i];
+      const auto named = id.dots.find(s.spec->id);
+      if (s.spec->is_tag() || named == id.dots.end()) continue;
+      const double width = std::max(reference_diameter[i], 2.0);
+      if (s.valid && cv::norm(named->second.center - s.position) <= width) continue;
+      const std::optional<Dot> fresh = refine_dot(gray, named->second.center, 2, dot_options(i));
+      if (!fresh) continue;
+      if (s.valid) {
+        const std::optional<Dot> followed = refine_dot(gray, s.position, 2, dot_options(i));
+        if (followed && unlike_a_dot(*followed) <= unlike_a_dot(*fresh)) continue;
+      }
+      bool taken = false;
+      for (size_t j = 0; j < states.size(); ++j)
+        taken |= j != i && states[j].valid && !states[j].spec->is_tag() &&
+                 cv::norm(states[j].position - fresh->center) < width;
+      if (taken) continue;
+      s.valid = true, s.position = fresh->center, s.lost_reason = LostReason::None;
+      s.quality = 0.9 * std::clamp(fresh->contrast / reference_contrast[i], 0.0, 1.0);
+      recent_diameter[i] = fresh->diameter, recent_elongation[i] = fresh->elongation;
+      unconfirmed.insert(i);  // named by one frame's naming, as at the start
+      placed.push_back(s.spec->id);
+    }
+    return placed;
   }
 
   std::vector<TagDetection> detect_all_tags() {

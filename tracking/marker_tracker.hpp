@@ -35,7 +35,9 @@
 //     place, and a dot called by another name on two checks in a row takes it;
 //  6. once, a few frames after the start, the frame is identified afresh as at the start
 //     (TrackerOptions::second_look_after): where that confident naming puts a name on
-//     another dot, the take starts again there.
+//     another dot, the take starts again there; where it puts a name only a dot's width or so
+//     off, the name keeps whichever of the two dots looks more like a dot on skin (round, no
+//     dark ring: not the eye's corner or the pupil).
 
 #include <map>
 #include <memory>
@@ -117,7 +119,10 @@ struct TrackerOptions {
   // confident frame, which may still be smeared by motion (a blur fading out) or show a face
   // half in view: the dots merged with the features beside them (a lip corner, the eye's
   // corner) are named on those features there, and LK follows them to the end; a few frames on
-  // they stand apart. The frames before keep the first names. 0: never.
+  // they stand apart. The frames before keep the first names. When no name is that far off,
+  // a name the naming puts more than a dot's width away (or finds while it is lost) goes to
+  // the naming's dot where that looks more like a dot (Dot::surround + elongation - 1 smaller)
+  // and no other followed dot is there ("second look: ... placed"). 0: never.
   int second_look_after = 10;
   // Threads the followed dots' centres are measured on each frame (0: the machine's cores;
   // OpenCV's cv::setNumThreads caps them). Any count gives the same tracks: each dot is
