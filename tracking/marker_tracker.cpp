@@ -337,15 +337,19 @@ struct MarkerTracker::Impl {
       const std::vector<std::string> placed = placed_by_look(id);
       if (!placed.empty())
         note = "second look: " + std::to_string(placed.size()) +
-               " names placed by their dots' look (" + placed.front() +
-               (placed.size() > 1 ? ", ...)" : ")");
+               " names placed by their dots' look (" + first_and_more(placed) + ")";
       return;
     }
     if (!enough(id.dots.size() + id.tags.size())) return;
     begin(adopt(id));
     started_at = frame;
-    note = "identified again (" + std::to_string(moved.size()) + " names moved: " + moved.front() +
-           (moved.size() > 1 ? ", ..." : "") + "), " + describe(identification);
+    note = "identified again (" + std::to_string(moved.size()) +
+           " names moved: " + first_and_more(moved) + "), " + describe(identification);
+  }
+
+  // "a" or "a, ...": a list of names in a frame's note.
+  static std::string first_and_more(const std::vector<std::string>& names) {
+    return names.front() + (names.size() > 1 ? ", ..." : "");
   }
 
   // A dot worn on the skin is round and has no dark ring around it; the face's own dark
@@ -378,9 +382,7 @@ struct MarkerTracker::Impl {
         taken |= j != i && states[j].valid && !states[j].spec->is_tag() &&
                  cv::norm(states[j].position - fresh->center) < width;
       if (taken) continue;
-      s.valid = true, s.position = fresh->center, s.lost_reason = LostReason::None;
-      s.quality = 0.9 * std::clamp(fresh->contrast / reference_contrast[i], 0.0, 1.0);
-      recent_diameter[i] = fresh->diameter, recent_elongation[i] = fresh->elongation;
+      found_on(i, *fresh);
       unconfirmed.insert(i);  // named by one frame's naming, as at the start
       placed.push_back(s.spec->id);
     }
@@ -1251,13 +1253,18 @@ struct MarkerTracker::Impl {
       // A lid dot only where a lid can be: not on the brow's, the other lid's or a corner's dot.
       if (is_lid(i) && !in_its_lid_band(i, d.center)) continue;
       if (carried_now[i] && is_lid(i) && !along_its_lid_line(i, d.center, scale)) continue;
-      s.valid = true;
-      s.position = d.center;
-      recent_diameter[i] = d.diameter;
-      recent_elongation[i] = d.elongation;
-      s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
+      found_on(i, d);
       return;
     }
+  }
+
+  // Marker i found on dot d where LK did not follow it there: its look as measured now, its
+  // quality its contrast against the start's, below a followed dot's.
+  void found_on(size_t i, const Dot& d) {
+    MarkerState& s = states[i];
+    s.valid = true, s.position = d.center, s.lost_reason = LostReason::None;
+    recent_diameter[i] = d.diameter, recent_elongation[i] = d.elongation;
+    s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
   }
 
   // A lid carried from where it was last seen moves up and down with the lid meanwhile, but
