@@ -538,6 +538,7 @@ struct MarkerTracker::Impl {
     std::vector<double> contrasts, diameters;
     reference_contrast.assign(n, 0);
     reference_diameter.assign(n, 0);
+    usual_look.assign(n, 0);
     for (size_t i = 0; i < n; ++i) {
       MarkerState& s = states[i];
       s.quality = s.valid ? 1 : 0;
@@ -556,6 +557,7 @@ struct MarkerTracker::Impl {
           reference[i] = s.position = d->center;
       if (auto d = refine_dot(gray, s.position, 1.5, dot_options(i))) {
         reference_contrast[i] = d->contrast, reference_diameter[i] = d->diameter;
+        usual_look[i] = unlike_a_dot(*d);
         contrasts.push_back(d->contrast), diameters.push_back(d->diameter);
       }
     }
@@ -572,11 +574,16 @@ struct MarkerTracker::Impl {
       return v[v.size() / 2];
     };
     const double typical_contrast = median(contrasts), typical_diameter = median(diameters);
+    std::vector<double> looks;
+    for (size_t i = 0; i < states.size(); ++i)
+      if (reference_contrast[i] > 0) looks.push_back(usual_look[i]);
+    const double typical_look = median(looks);
     px = std::max(1.0, typical_diameter / options.reference_dot_px);
     large_dots = typical_diameter >= options.reference_dot_px;
     for (size_t i = 0; i < states.size(); ++i)
       if (!states[i].spec->is_tag() && reference_contrast[i] <= 0)
-        reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter;
+        reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter,
+        usual_look[i] = typical_look;
     recent_diameter = reference_diameter;
     recent_elongation.assign(states.size(), 1);
     face_scale = 1;
@@ -663,6 +670,9 @@ struct MarkerTracker::Impl {
   double face_scale = 1;                  // the face's size now over its size at the start
   std::vector<double> recent_diameter;    // per dot, smoothed over its last measurements
   std::vector<double> recent_elongation;  // per dot, when last measured
+  // Per dot, how unlike a dot it has looked while followed (unlike_a_dot), smoothed over its
+  // measurements: from the start's, then each frame it is followed.
+  std::vector<double> usual_look;
 
   // ---- per frame: the steps --------------------------------------------------------------
 
@@ -957,6 +967,7 @@ struct MarkerTracker::Impl {
       s.position = d->center;
       recent_diameter[i] = 0.7 * recent_diameter[i] + 0.3 * d->diameter;
       recent_elongation[i] = d->elongation;
+      usual_look[i] = 0.8 * usual_look[i] + 0.2 * unlike_a_dot(*d);
       s.quality = std::clamp(d->contrast / reference_contrast[i], 0.0, 1.0) *
                   (1 - 0.5 * fb / max_fb_error());
     }
@@ -1250,12 +1261,25 @@ struct MarkerTracker::Impl {
     for (const Dot& d : dots_near(gray, expected, radius, dot_options(i), 4, least)) {
       if (cv::norm(d.center - expected) > radius || !dot_passes(i, d, false)) continue;
       if (!belongs_to(i, d.center, scale)) continue;
+      if (!looks_like_itself(i, d)) continue;
       // A lid dot only where a lid can be: not on the brow's, the other lid's or a corner's dot.
       if (is_lid(i) && !in_its_lid_band(i, d.center)) continue;
       if (carried_now[i] && is_lid(i) && !along_its_lid_line(i, d.center, scale)) continue;
       found_on(i, d);
       return;
     }
+  }
+
+  // TrackerOptions::found_look_allowance. The blob is measured again as a followed dot is
+  // (from its own centre, within max_snap): found among the dots near a place, a dot merged
+  // with a darker neighbour (a big brow dot against the eyebrow) measures as part of it.
+  bool looks_like_itself(size_t i, const Dot& d) const {
+    if (options.found_look_allowance < 0) return true;
+    const std::optional<Dot> as_followed = refine_dot(gray, d.center, max_snap(), dot_options(i));
+    const bool same_blob =
+        as_followed && cv::norm(as_followed->center - d.center) <= 0.5 * d.diameter;
+    return unlike_a_dot(same_blob ? *as_followed : d) <=
+           usual_look[i] + options.found_look_allowance;
   }
 
   // Marker i found on dot d where LK did not follow it there: its look as measured now, its
@@ -1508,6 +1532,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, tag_redetect_every),
       ROSTRO_NAMED_OPTION(O, align_tags),
       ROSTRO_NAMED_OPTION(O, search_fraction),
+      ROSTRO_NAMED_OPTION(O, found_look_allowance),
       ROSTRO_NAMED_OPTION(O, eyes.max_eye_snap),
       ROSTRO_NAMED_OPTION(O, eyes.lid_sideways_fraction),
       ROSTRO_NAMED_OPTION(O, eyes.lid_overshoot_fraction),

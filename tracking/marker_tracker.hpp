@@ -92,6 +92,11 @@ struct TrackerOptions {
   bool align_tags = true;
   int tag_redetect_every = 4;     // frames, without align_tags; in between LK follows the corners
   double search_fraction = 0.45;  // re-acquisition radius, fraction of the nearest spacing
+  // A lost dot is found again only on a blob that looks like it at most this much less like a
+  // dot (Dot::surround + elongation - 1) than it has looked while followed: a clean dot on the
+  // cheek is not found on the eye's corner or a lip corner beside it, a lid dot against its
+  // lashes still on itself. Negative: any blob that passes the dot checks.
+  double found_look_allowance = 0.2;
   // How far a dot's frame-to-frame motion may differ from its neighbours' (the larger of a
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.
   double max_relative_motion = 0.35;
