@@ -234,9 +234,9 @@ void eval_suite(const SuiteArgs& a) {
                       std::lround(s.seconds * s.fps));
     rows.push_back(eval::run_scenario(
         s, scene.model, &scene.library, scene.layout,
-        [&](long done, long) {
+        [&](long done, long total) {
           interrupt.throw_if_requested();
-          progress.update(done);
+          progress.update(done, total);
         },
         tracker));
     progress.finish();
@@ -295,9 +295,9 @@ void eval_photos(const PhotosArgs& a) {
     }
     rows.push_back(eval::run_photo_scenario(
         s, faces, layout,
-        [&](long done, long) {
+        [&](long done, long total) {
           interrupt.throw_if_requested();
-          progress.update(done);
+          progress.update(done, total);
         },
         tracker,
         video ? eval::PhotoFrameSink([&](const cv::Mat& bgr) { video->write(bgr); })
@@ -431,9 +431,9 @@ void eval_loop(const LoopArgs& a) {
     scenarios += fmt::format("- **{}**: {}.\n", s.name, describe_drive(s));
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       static_cast<long>(eval::loop_drive(s).frames.size()));
-    const auto show = [&](long done, long) {
+    const auto show = [&](long done, long total) {
       interrupt.throw_if_requested();
-      progress.update(done);
+      progress.update(done, total);
     };
     if (a.face.markerless)
       results.push_back(eval::run_loop_scenario(

@@ -35,6 +35,11 @@ void Progress::update(long done) {
     log_line();
 }
 
+void Progress::update(long done, long total) {
+  if (total > 0) total_ = total;
+  update(done);
+}
+
 void Progress::finish() {
   if (finished_) return;
   finished_ = true;

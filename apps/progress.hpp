@@ -14,6 +14,9 @@ class Progress {
   Progress(std::string label, long total);
   ~Progress();
   void update(long done);
+  // The same, with the total as the work counts it once it runs (a clip with a neutral lead-in
+  // is longer than its drive).
+  void update(long done, long total);
   void finish();
 
  private:
