@@ -1261,10 +1261,11 @@ struct MarkerTracker::Impl {
     for (const Dot& d : dots_near(gray, expected, radius, dot_options(i), 4, least)) {
       if (cv::norm(d.center - expected) > radius || !dot_passes(i, d, false)) continue;
       if (!belongs_to(i, d.center, scale)) continue;
-      if (!looks_like_itself(i, d)) continue;
       // A lid dot only where a lid can be: not on the brow's, the other lid's or a corner's dot.
       if (is_lid(i) && !in_its_lid_band(i, d.center)) continue;
       if (carried_now[i] && is_lid(i) && !along_its_lid_line(i, d.center, scale)) continue;
+      // Last: it measures the blob again.
+      if (!looks_like_itself(i, d)) continue;
       found_on(i, d);
       return;
     }
