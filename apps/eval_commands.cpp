@@ -607,9 +607,10 @@ void add_eval_commands(CLI::App& app) {
   suite->add_option("--only", su.only, "run only these scenarios, e.g. still,turns");
   suite->add_option("--markdown", su.markdown,
                     "write the table into this Markdown file's \"## Suite table\" section");
-  suite->add_option("--tracker-option", su.tracker_options,
-                    "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. "
-                    "eyes.max_dot_growth=1.3, lower_lip.together=false, dots.max_elongation=4");
+  suite->add_option(
+      "--tracker-option", su.tracker_options,
+      "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. "
+      "eyes.max_dot_growth_found=1.3, lower_lip.together=false, dots.max_elongation=4");
   suite->footer("Example:\n  rostro eval suite --markdown docs/accuracy.md");
   suite->callback([] { eval_suite(su); });
 
@@ -686,7 +687,7 @@ void add_eval_commands(CLI::App& app) {
       ->excludes(loop_markdown);
   loop->add_option(
       "--tracker-option", lo.tracker_options,
-      "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. eyes.max_dot_growth=1.3");
+      "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. eyes.max_dot_growth_found=1.3");
   loop->add_option("--solver-option", lo.solver_options,
                    "set a SolverOptions field for both Ceres fits, NAME=VALUE (repeatable), e.g. "
                    "pose_prior_weight=0");

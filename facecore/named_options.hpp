@@ -1,6 +1,6 @@
 #pragma once
 // An options struct's scalar fields set by name, "NAME=VALUE" (`rostro eval suite
-// --tracker-option max_dot_growth=1.3`): each struct lists its fields once, with
+// --tracker-option eyes.max_dot_growth_found=1.3`): each struct lists its fields once, with
 // ROSTRO_NAMED_OPTION, and set_named_option() applies one assignment. Values are numbers, or
 // true/false for a switch; a bad name or value throws InputError in one line. Ranges are the
 // struct's validate()'s business.

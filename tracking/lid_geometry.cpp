@@ -25,7 +25,6 @@ void EyeOptions::validate() const {
       .not_negative("lid_sideways_fraction", lid_sideways_fraction)
       .not_negative("lid_overshoot_fraction", lid_overshoot_fraction)
       .positive("lid_reach", lid_reach)
-      .at_least("max_dot_growth", max_dot_growth, 1)
       .at_least("max_dot_growth_found", max_dot_growth_found, 1)
       .not_negative("eye_size_memory_frames", eye_size_memory_frames)
       .at_least("edge_on_elongation", edge_on_elongation, 1)

@@ -52,12 +52,12 @@ struct EyeOptions {
   // side of its eye's corner line, or this fraction of its spacing past it, ...
   double lid_overshoot_fraction = 0.15;
   double lid_reach = 1.7;  // and at most this many times its distance from the line at the start
-  // Eye dots (lids, corners): largest size of a followed dot over its size in the last
-  // frames. A larger blob is the dot merged with a dark neighbour (the pupil, the other lid's
-  // dot in a blink), whose centre is neither's: the dot is reported lost. The same for a dot
-  // found again after a loss, over the larger of its size when last seen and at the start
-  // (scaled as the face). Other dots keep the looser 0.5-2x of their start size.
-  double max_dot_growth = 1.15;
+  // Eye dots (lids, corners) found again after a loss: largest size over the larger of their
+  // size when last seen and at the start (scaled as the face). A larger blob is the dot merged
+  // with a dark neighbour (the pupil, the other lid's dot in a blink), whose centre is
+  // neither's; it is not taken. A followed dot, and any dot off the eyes, keeps the looser 0.5-2x
+  // of its start size: blur grows a followed eye dot as much as a merge does, and one dropped
+  // for it was found again on a neighbour.
   double max_dot_growth_found = 1.2;
   // ... except that an eye dot last seen edge-on (at least edge_on_elongation long over short)
   // and lost for fewer frames than this is held to its size when last seen, not the larger of

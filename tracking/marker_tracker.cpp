@@ -616,13 +616,15 @@ struct MarkerTracker::Impl {
     return static_cast<int>(std::lround(options.lk_window * std::sqrt(px))) | 1;
   }
 
-  // A dot grows suddenly only when it merges with something dark beside it: the pupil beside
-  // a lid dot as the lid closes, the other lid's dot in a blink. Its centre is then the
-  // pair's and neither marker's, so it is reported lost. A followed dot changes size slowly
-  // (`recent_diameter`, its last sizes measured, smoothed); one found again after a loss may
-  // have turned toward the camera meanwhile, so after a long loss it may be a little larger
-  // than it was then or at the start, not as large as two dots (after a short one, than it was
-  // then, when it was seen edge-on: merged with a dark neighbour it is about its start size).
+  // At the eye a blob found where a lost dot was may be the dot merged with something dark
+  // beside it: the pupil beside a lid dot as the lid closes, the other lid's dot in a blink.
+  // Its centre is the pair's and neither marker's, so it is not taken. The dot may have turned
+  // toward the camera meanwhile, so after a long loss it may be a little larger than it was
+  // then (`recent_diameter`, its last sizes measured, smoothed) or at the start, not as large
+  // as two dots (after a short one, than it was then, when it was seen edge-on: merged with a
+  // dark neighbour it is about its start size). A followed dot is held only to twice its start
+  // size, as every dot off the eyes: blurred it grows as much as merged, and where it was
+  // dropped for that it came back on a neighbour (docs/accuracy.md, the photo scenes' blur).
   // The first check dot d fails as marker i (None: it passes).
   LostReason dot_check(size_t i, const Dot& d, bool followed) const {
     const double was = recent_diameter[i] > 0 ? recent_diameter[i] : reference_diameter[i];
@@ -631,16 +633,15 @@ struct MarkerTracker::Impl {
     const bool edge_on_lately = states[i].lost_frames < options.eyes.eye_size_memory_frames &&
                                 recent_elongation[i] >= options.eyes.edge_on_elongation;
     const double grown_from =
-        followed || edge_on_lately ? was : std::max(was, reference_diameter[i] * face_scale);
-    const double largest =
-        (followed ? options.eyes.max_dot_growth : options.eyes.max_dot_growth_found) * grown_from;
+        edge_on_lately ? was : std::max(was, reference_diameter[i] * face_scale);
+    const double largest_found = options.eyes.max_dot_growth_found * grown_from;
     if (is_lid(i) && d.elongation > options.eyes.max_lid_elongation)
       return LostReason::LidElongation;
     if (is_lid(i) && d.surround > options.eyes.max_lid_surround) return LostReason::LidSurround;
     if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
       return LostReason::Contrast;
     if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
-    if (!(d.diameter <= (at_eye(i) ? largest : 2.0 * reference_diameter[i])))
+    if (!(d.diameter <= (at_eye(i) && !followed ? largest_found : 2.0 * reference_diameter[i])))
       return LostReason::Growth;
     return LostReason::None;
   }
@@ -1545,7 +1546,6 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, lower_lip.down),
       ROSTRO_NAMED_OPTION(O, lower_lip.sideways),
       ROSTRO_NAMED_OPTION(O, lower_lip.shape),
-      ROSTRO_NAMED_OPTION(O, eyes.max_dot_growth),
       ROSTRO_NAMED_OPTION(O, eyes.max_dot_growth_found),
       ROSTRO_NAMED_OPTION(O, eyes.eye_size_memory_frames),
       ROSTRO_NAMED_OPTION(O, eyes.edge_on_elongation),

@@ -135,13 +135,14 @@ struct TrackerOptions {
   int threads = 0;
 
   // Throws InputError naming the first option out of range (lk_window <= 0,
-  // eyes.max_dot_growth < 1, ...), this struct's or a part's. MarkerTracker's constructor calls it.
+  // eyes.max_dot_growth_found < 1, ...), this struct's or a part's. MarkerTracker's
+  // constructor calls it.
   void validate() const;
 };
 
 // Sets one field of `options` from "NAME=VALUE", NAME a field's name as above (a region's or
 // DotOptions' field as "eyes.NAME", "brows.NAME", "lower_lip.NAME", "dots.NAME"), e.g.
-// "eyes.max_dot_growth=1.3" or "lower_lip.together=false": for
+// "eyes.max_dot_growth_found=1.3" or "lower_lip.together=false": for
 // `rostro eval suite --tracker-option`. Throws InputError for an unknown name or a bad value.
 void set_tracker_option(TrackerOptions& options, const std::string& assignment);
 
@@ -158,7 +159,7 @@ enum class LostReason {
   LidSurround,    // a lid dot's ring darker than max_lid_surround
   Contrast,       // below min_contrast_ratio of its contrast at the start
   Shrunk,         // under half its size at the start
-  Growth,         // an eye dot grown past max_dot_growth(_found); another over twice its start size
+  Growth,         // over twice its start size; an eye dot found again, past max_dot_growth_found
   Jump,           // moved unlike its neighbours (max_relative_motion, max_relative_motion_px)
   Coincident,     // on the spot of another dot (both are dropped)
   LidBand,        // a lid dot off its band (lid_overshoot_fraction, lid_reach)

@@ -74,11 +74,11 @@ double worst_of(const std::vector<double>& errors) {
 }
 
 TEST(LidMerge, WithoutTheGrowthCheckTheMergedBlobIsNotFoundAgain) {
-  // The same take with the growth check off: the dot is lost where it merges, and the merged
-  // blob, ringed by the iris, looks less like a dot than the lid dot did, so re-acquisition
-  // leaves it (TrackerOptions::found_look_allowance).
+  // The same take with the found dot's growth check off (EyeOptions::max_dot_growth_found): the
+  // dot is lost where it merges, and the merged blob, ringed by the iris, looks less like a dot
+  // than the lid dot did, so re-acquisition leaves it (TrackerOptions::found_look_allowance).
   TrackerOptions o;
-  o.eyes.max_dot_growth = o.eyes.max_dot_growth_found = 100;
+  o.eyes.max_dot_growth_found = 100;
   EXPECT_LT(worst_of(track_lid(o)), 1.0);
 }
 
@@ -86,7 +86,7 @@ TEST(LidMerge, WithNeitherCheckTheMergedBlobIsMeasured) {
   // Both off: the dot is measured on the dot+pupil blob, pixels off (what the checks above
   // guard against).
   TrackerOptions o;
-  o.eyes.max_dot_growth = o.eyes.max_dot_growth_found = 100;
+  o.eyes.max_dot_growth_found = 100;
   o.found_look_allowance = -1;
   EXPECT_GT(worst_of(track_lid(o)), 1.0);
 }

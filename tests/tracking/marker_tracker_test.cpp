@@ -36,8 +36,8 @@ TEST(TrackerOptions, BadValueIsNamedInOneLine) {
   EXPECT_EQ(complaint(o), "TrackerOptions::lk_window = 0: should be > 0");
   EXPECT_THROW(MarkerTracker tracker(default_layout(), o), InputError);
   o = {};
-  o.eyes.max_dot_growth = 0.9;
-  EXPECT_EQ(complaint(o), "EyeOptions::max_dot_growth = 0.9: should be >= 1");
+  o.eyes.max_dot_growth_found = 0.9;
+  EXPECT_EQ(complaint(o), "EyeOptions::max_dot_growth_found = 0.9: should be >= 1");
   o = {};
   o.lower_lip.shape = 0;
   EXPECT_EQ(complaint(o), "LowerLipOptions::shape = 0: should be > 0");
@@ -59,11 +59,11 @@ TEST(DotOptions, BadValueIsNamedInOneLine) {
 
 TEST(TrackerOptions, SetByName) {
   TrackerOptions o;
-  set_tracker_option(o, "eyes.max_dot_growth=1.3");
+  set_tracker_option(o, "eyes.max_dot_growth_found=1.3");
   set_tracker_option(o, "lower_lip.together=false");
   set_tracker_option(o, "dots.max_elongation=4");
   set_tracker_option(o, "lk_window=15");
-  EXPECT_EQ(o.eyes.max_dot_growth, 1.3);
+  EXPECT_EQ(o.eyes.max_dot_growth_found, 1.3);
   EXPECT_FALSE(o.lower_lip.together);
   EXPECT_EQ(o.dots.max_elongation, 4);
   EXPECT_EQ(o.lk_window, 15);
@@ -72,13 +72,13 @@ TEST(TrackerOptions, SetByName) {
 TEST(TrackerOptions, BadNameOrValueIsOneLine) {
   TrackerOptions o;
   try {
-    set_tracker_option(o, "eyes.max_dot_grwth=1.3");
+    set_tracker_option(o, "eyes.max_dot_grwth_found=1.3");
     FAIL() << "no error";
   } catch (const InputError& e) {
     const std::string what = e.what();
-    EXPECT_EQ(what.rfind("TrackerOptions has no option 'eyes.max_dot_grwth' (known: ", 0), 0u)
+    EXPECT_EQ(what.rfind("TrackerOptions has no option 'eyes.max_dot_grwth_found' (known: ", 0), 0u)
         << what;
-    EXPECT_NE(what.find("eyes.max_dot_growth"), std::string::npos) << what;
+    EXPECT_NE(what.find("eyes.max_dot_growth_found"), std::string::npos) << what;
   }
   EXPECT_THROW(set_tracker_option(o, "lk_window=13.5"), InputError);
   EXPECT_THROW(set_tracker_option(o, "lower_lip.together=maybe"), InputError);
