@@ -1363,16 +1363,13 @@ struct MarkerTracker::Impl {
       const double least = options.min_contrast_ratio * reference_contrast[k];
       return dots_near(gray, centre, radius, dot_options(k), 4, least);
     };
+    // Not asked the look (found_look_allowance): found together they are held to the lip's
+    // shape already, and asked, the lower lip's dots beside the open mouth were left lost (the
+    // closed loops, docs/accuracy.md).
     search.passes = [this](size_t k, const Dot& d) { return dot_passes(k, d, false); };
     const std::optional<std::vector<LowerLipFound>> found = find_lower_lip(scene, search);
     if (!found) return false;
-    for (const LowerLipFound& f : *found) {
-      MarkerState& s = states[f.marker];
-      s.valid = true;
-      s.position = f.dot.center;
-      recent_diameter[f.marker] = f.dot.diameter;
-      s.quality = 0.9 * std::clamp(f.dot.contrast / reference_contrast[f.marker], 0.0, 1.0);
-    }
+    for (const LowerLipFound& f : *found) found_on(f.marker, f.dot);
     return true;
   }
 
