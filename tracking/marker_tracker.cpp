@@ -616,17 +616,28 @@ struct MarkerTracker::Impl {
     return static_cast<int>(std::lround(options.lk_window * std::sqrt(px))) | 1;
   }
 
+  // The first check dot d fails as marker i (None: it passes). Any dot may be at most twice its
+  // start size; a followed eye dot too: blurred it grows as much as merged, and where it was
+  // dropped for that it came back on a neighbour (docs/accuracy.md, the photo scenes' blur).
+  LostReason dot_check(size_t i, const Dot& d, bool followed) const {
+    if (is_lid(i) && d.elongation > options.eyes.max_lid_elongation)
+      return LostReason::LidElongation;
+    if (is_lid(i) && d.surround > options.eyes.max_lid_surround) return LostReason::LidSurround;
+    if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
+      return LostReason::Contrast;
+    if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
+    if (!(d.diameter <= (at_eye(i) && !followed ? largest_found(i) : 2.0 * reference_diameter[i])))
+      return LostReason::Growth;
+    return LostReason::None;
+  }
   // At the eye a blob found where a lost dot was may be the dot merged with something dark
   // beside it: the pupil beside a lid dot as the lid closes, the other lid's dot in a blink.
   // Its centre is the pair's and neither marker's, so it is not taken. The dot may have turned
   // toward the camera meanwhile, so after a long loss it may be a little larger than it was
   // then (`recent_diameter`, its last sizes measured, smoothed) or at the start, not as large
   // as two dots (after a short one, than it was then, when it was seen edge-on: merged with a
-  // dark neighbour it is about its start size). A followed dot is held only to twice its start
-  // size, as every dot off the eyes: blurred it grows as much as merged, and where it was
-  // dropped for that it came back on a neighbour (docs/accuracy.md, the photo scenes' blur).
-  // The first check dot d fails as marker i (None: it passes).
-  LostReason dot_check(size_t i, const Dot& d, bool followed) const {
+  // dark neighbour it is about its start size). The largest blob eye dot i is found again on.
+  double largest_found(size_t i) const {
     const double was = recent_diameter[i] > 0 ? recent_diameter[i] : reference_diameter[i];
     // (EyeOptions::eye_size_memory_frames: an eye dot last seen edge-on and lost a short
     // while keeps its own size.)
@@ -634,16 +645,7 @@ struct MarkerTracker::Impl {
                                 recent_elongation[i] >= options.eyes.edge_on_elongation;
     const double grown_from =
         edge_on_lately ? was : std::max(was, reference_diameter[i] * face_scale);
-    const double largest_found = options.eyes.max_dot_growth_found * grown_from;
-    if (is_lid(i) && d.elongation > options.eyes.max_lid_elongation)
-      return LostReason::LidElongation;
-    if (is_lid(i) && d.surround > options.eyes.max_lid_surround) return LostReason::LidSurround;
-    if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
-      return LostReason::Contrast;
-    if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
-    if (!(d.diameter <= (at_eye(i) && !followed ? largest_found : 2.0 * reference_diameter[i])))
-      return LostReason::Growth;
-    return LostReason::None;
+    return options.eyes.max_dot_growth_found * grown_from;
   }
   bool dot_passes(size_t i, const Dot& d, bool followed) const {
     return dot_check(i, d, followed) == LostReason::None;

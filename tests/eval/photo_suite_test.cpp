@@ -110,9 +110,11 @@ TEST(PhotoSuite, ARunKeepsItsFramesTracksAndTruth) {
   EXPECT_EQ(first.size(), row.truth.front().markers.size());
 }
 
-// The scene of that name in data/eval/photo_scenes.json.
-std::optional<PhotoScenario> default_scenario(const std::string& name) {
-  const PhotoSuiteDefinition d = load_photo_scenes(default_photo_scenes_path());
+// The scene of that name in a scenes file of data/eval/ (default: photo_scenes.json).
+std::optional<PhotoScenario> default_scenario(const std::string& name,
+                                              const std::string& file = "photo_scenes.json") {
+  const PhotoSuiteDefinition d =
+      load_photo_scenes(default_photo_scenes_path().parent_path() / file);
   for (const PhotoScenario& s : d.scenarios)
     if (s.name == name) return s;
   return std::nullopt;
@@ -265,11 +267,9 @@ tracking::TrackerOptions finding_any_blob(tracking::TrackerOptions o = {}) {
 TEST(PhotoSuite, AnEyeDotNamedOnTheEyesCornerIsPlacedBackByItsLook) {
   if (!std::filesystem::is_directory(default_faces_dir()))
     GTEST_SKIP() << default_faces_dir() << " is absent (../shared beside the repository)";
-  const PhotoSuiteDefinition held_out =
-      load_photo_scenes(default_photo_scenes_path().parent_path() / "photo_scenes_heldout.json");
-  const auto scene = std::find_if(held_out.scenarios.begin(), held_out.scenarios.end(),
-                                  [](const PhotoScenario& s) { return s.name == "small_vga_s5"; });
-  ASSERT_NE(scene, held_out.scenarios.end());
+  const std::optional<PhotoScenario> scene =
+      default_scenario("small_vga_s5", "photo_scenes_heldout.json");
+  ASSERT_TRUE(scene);
   const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
   const auto after_it = [](const PhotoRow& row) {
     return evaluate_tracks(std::span(row.truth).subspan(11), std::span(row.tracks).subspan(11));
