@@ -46,8 +46,9 @@ struct IdentificationOptions {
   // its contrast))^2 farther squared, so that of two detections near a dot's place the one
   // as dark as the other dots takes the name (the dot above the eye, not the shadow in it);
   // a faint dot alone near its place (in a corner's shadow, on skin turning away) is still
-  // named (tests/tracking/dark_features_test.cpp). 0: position alone.
-  double ink_weight = 0.15;
+  // named (tests/tracking/dark_features_test.cpp). 0: position alone. Measured 0.15-0.5 on the
+  // photo scenes (docs/accuracy.md, "A faint blob weighs twice as much").
+  double ink_weight = 0.3;
   // The lower lip's dots (MPEG-4 8.2, 8.7, 8.8) are neighbours only of each other where the
   // naming moves a dot's place by its neighbours' offsets (the face model's, then the named
   // detections'): the lower lip drops and spreads away from the upper lip and the corners, so
