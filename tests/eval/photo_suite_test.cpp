@@ -254,8 +254,8 @@ TEST(PhotoSuite, ASmearedStartIsNamedAgainOnASharpFrame) {
 }
 
 // The held-out late start of seed 5 (2008_002079.jpg entering from the right, the first 2 s):
-// the take starts on frame 23 as the face slows, the right mid-brow dot merged with the
-// headband's edge and its name on the upper lid's dot. The second look, frame 33, names every
+// the take starts on frame 23 as the face slows, with the right mid-brow's name on the upper
+// lid's dot, 27 px below its own. The second look, frame 33, names every
 // dot right with a margin of 0.97 against the start's 1.00; a naming that much less sure is as
 // sure (kMarginNoise), and the take starts again on it.
 TEST(PhotoSuite, ASecondNamingAsSureWithinItsNoiseStartsTheTakeAgain) {
