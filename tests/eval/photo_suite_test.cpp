@@ -255,9 +255,9 @@ TEST(PhotoSuite, ASmearedStartIsNamedAgainOnASharpFrame) {
 
 // The held-out late start of seed 5 (2008_002079.jpg entering from the right, the first 2 s):
 // the take starts on frame 23 as the face slows, with the right mid-brow's name on the upper
-// lid's dot, 27 px below its own. The second look, frame 33, names every
-// dot right with a margin of 0.97 against the start's 1.00; a naming that much less sure is as
-// sure (kMarginNoise), and the take starts again on it.
+// lid's dot, 27 px below its own. The second look, frame 33, names every dot right with a
+// margin of 0.97 against the start's 1.00; a naming that much less sure is as sure
+// (kMarginNoise), and the take starts again on it.
 TEST(PhotoSuite, ASecondNamingAsSureWithinItsNoiseStartsTheTakeAgain) {
   if (!std::filesystem::is_directory(default_faces_dir()))
     GTEST_SKIP() << default_faces_dir() << " is absent (../shared beside the repository)";
@@ -307,8 +307,8 @@ TEST(PhotoSuite, AnEyeDotNamedOnTheEyesCornerIsPlacedBackByItsLook) {
       run_photo_scenario(*scene, default_faces_dir(), layout, {}, faint_weighed_less);
   EXPECT_EQ(last_noted(row, "second look:"), 10);
   EXPECT_EQ(after_it(row).astray_observations, 0);
-  tracking::TrackerOptions without = without_second_look();
-  without.identification.ink_weight = 0.15;
+  tracking::TrackerOptions without = faint_weighed_less;
+  without.second_look_after = 0;
   const PhotoRow without_it = run_photo_scenario(*scene, default_faces_dir(), layout, {}, without);
   EXPECT_GT(after_it(without_it).astray_observations, 50);
 }
