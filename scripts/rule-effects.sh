@@ -14,6 +14,7 @@ trap 'rm -rf "$work"' EXIT
 # rule | options that turn it off | scenario | loop file ("" = 640x480) | FAP names to show
 rules=(
   "brows.edge_fit_mid_brows|--tracker-option brows.edge_fit_mid_brows=false|fear||raise_l_m_eyebrow raise_r_m_eyebrow"
+  "edge_fit_elsewhere|--tracker-option edge_fit_elsewhere=false|turns|data/eval/closed_loop_1280x720.json|raise_b_midlip_o lower_t_midlip_o"
   "eyes.inner_corners_raise_share|--tracker-option eyes.inner_corners_raise_share=false|still|data/eval/closed_loop_1280x720.json|close_t_l_eyelid close_t_r_eyelid"
   "eyes.inner_corners_symmetric_centre|--tracker-option eyes.inner_corners_symmetric_centre=false|fear||head_yaw head_pitch"
   "eyes.inner_corner_max_elongation_large|--tracker-option eyes.inner_corner_max_elongation_large=3|turns|data/eval/closed_loop_1280x720.json|close_t_l_eyelid close_t_r_eyelid"

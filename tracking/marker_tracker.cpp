@@ -30,6 +30,10 @@ using namespace internal;  // the eyes' geometry and the lower lip's search
 
 namespace {
 
+// MPEG-4's nose feature points (9.x): dots beside the nostrils
+// (TrackerOptions::edge_fit_elsewhere).
+constexpr int kNoseGroup = 9;
+
 // DotOptions::max_surround that no ring reaches: no dark-ring test.
 constexpr double kNoSurroundTest = 1e9;
 
@@ -153,8 +157,11 @@ struct MarkerTracker::Impl {
         std::max(options.dots.max_elongation, options.eyes.inner_corner_max_elongation_large);
     for (size_t i = 0; i < states.size(); ++i) {
       const DotRole r = roles[i];
-      const bool edge_fit = tracking::at_eye(r) || options.edge_fit_elsewhere ||
-                            (options.brows.edge_fit_mid_brows && r == DotRole::MidBrow);
+      const bool edge_fit =
+          tracking::at_eye(r) ||
+          (r == DotRole::MidBrow ? options.brows.edge_fit_mid_brows
+                                 : options.edge_fit_elsewhere && r != DotRole::LowerLip &&
+                                       points[i].group != kNoseGroup);
       const bool upper_face = by_dark_features(points[i]);
       const DotOptions* plain = edge_fit
                                     ? (upper_face ? &options.dots : &lower_face_dots)
@@ -659,8 +666,8 @@ struct MarkerTracker::Impl {
   // merged for a frame is better kept than dropped (the suite's mouth clip: dropped lip dots
   // come back on a neighbour's): the eye dots' stricter checks hold only at the eyes.
   bool at_eye(size_t i) const { return tracking::at_eye(roles[i]); }
-  // How dot i is measured: the edge fit at the eyes and the mid brows
-  // (TrackerOptions::edge_fit_elsewhere, BrowOptions::edge_fit_mid_brows), but
+  // How dot i is measured: the edge fit, save the nose's and the lower lip's dots (their
+  // centroid; TrackerOptions::edge_fit_elsewhere, BrowOptions::edge_fit_mid_brows), and
   // at the inner eye corners the raised share (EyeOptions::inner_corners_raise_share) and
   // the symmetric centre (inner_corners_symmetric_centre). The raised share not at the other eye
   // dots: on the lid dots the raised share would take two lid dots merged in a blink (not round at
