@@ -30,10 +30,6 @@ using namespace internal;  // the eyes' geometry and the lower lip's search
 
 namespace {
 
-// MPEG-4's nose feature points (9.x): dots beside the nostrils
-// (TrackerOptions::edge_fit_elsewhere).
-constexpr int kNoseGroup = 9;
-
 // DotOptions::max_surround that no ring reaches: no dark-ring test.
 constexpr double kNoSurroundTest = 1e9;
 
@@ -60,6 +56,7 @@ enum class DotRole {
   OtherEye,        // any other point of group 3 (the pupils): an eye dot with no rule of its own
   MidBrow,         // 4.3, 4.4: above the eyebrow's highest point
   LowerLip,        // 8.2, 8.7, 8.8 (lower_lip_search.hpp)
+  Nose,            // group 9: beside the nostrils (TrackerOptions::edge_fit_elsewhere)
   Plain,           // every other dot, and the tags
 };
 
@@ -72,6 +69,7 @@ DotRole role_of(const FeaturePointId& fp) {
                                                                          : DotRole::OtherEye;
   if (fp.group == 4 && (fp.index == 3 || fp.index == 4)) return DotRole::MidBrow;
   if (at_lower_lip(fp)) return DotRole::LowerLip;
+  if (fp.group == 9) return DotRole::Nose;
   return DotRole::Plain;
 }
 
@@ -159,9 +157,9 @@ struct MarkerTracker::Impl {
       const DotRole r = roles[i];
       const bool edge_fit =
           tracking::at_eye(r) ||
-          (r == DotRole::MidBrow ? options.brows.edge_fit_mid_brows
-                                 : options.edge_fit_elsewhere && r != DotRole::LowerLip &&
-                                       points[i].group != kNoseGroup);
+          (r == DotRole::MidBrow
+               ? options.brows.edge_fit_mid_brows
+               : options.edge_fit_elsewhere && r != DotRole::LowerLip && r != DotRole::Nose);
       const bool upper_face = by_dark_features(points[i]);
       const DotOptions* plain = edge_fit
                                     ? (upper_face ? &options.dots : &lower_face_dots)
