@@ -73,6 +73,10 @@ DotRole role_of(const FeaturePointId& fp) {
   return DotRole::Plain;
 }
 
+bool on_chin(const FeaturePointId& fp) {
+  return fp.group == 2 && (fp.index == 1 || fp.index >= 10);
+}
+
 bool at_eye(DotRole r) {
   return r == DotRole::Lid || r == DotRole::InnerEyeCorner || r == DotRole::OuterEyeCorner ||
          r == DotRole::OtherEye;
@@ -1037,11 +1041,16 @@ struct MarkerTracker::Impl {
     std::vector<size_t> jumped;
     for (size_t i = 0; i < states.size(); ++i) {
       if (!states[i].valid || states[i].spec->is_tag() || !f.was_valid[i]) continue;
+      // The lower lip by the jaw's dots while three of them were followed, else by any.
       std::vector<std::pair<double, size_t>> near;
-      for (size_t j = 0; j < states.size(); ++j)
-        if (j != i && states[j].valid && f.was_valid[j] && !states[j].spec->is_tag() &&
-            !apart_from_lower_lip(i, j))
-          near.push_back({cv::norm(reference[j] - reference[i]), j});
+      for (const bool apart : {true, false}) {
+        near.clear();
+        for (size_t j = 0; j < states.size(); ++j)
+          if (j != i && states[j].valid && f.was_valid[j] && !states[j].spec->is_tag() &&
+              !(apart && apart_from_lower_lip(i, j)))
+            near.push_back({cv::norm(reference[j] - reference[i]), j});
+        if (near.size() >= 3 || !at_lower_lip(i)) break;
+      }
       if (near.size() < 3) continue;
       std::sort(near.begin(), near.end());
       if (near.size() > 6) near.resize(6);
@@ -1082,11 +1091,19 @@ struct MarkerTracker::Impl {
   void reacquire_lost(const Flow& f) {
     remember_last_seen(f.was_valid, f.before, f.owner);
     predict_lost();
-    const bool lower_lip_searched = options.lower_lip.together && reacquire_lower_lip();
-    for (size_t i = 0; i < states.size(); ++i)
-      if (!states[i].valid && has_prediction[i] &&
-          !(lower_lip_searched && searched_with_lower_lip(i)))
-        reacquire(i);
+    // With LowerLipOptions::with_the_jaw the jaw's dots last, once the dots they are placed by
+    // (and the upper lip the lower lip's search stands on) are back.
+    bool lower_lip_searched = false;
+    auto one_by_one = [&](bool before_the_lower_lip) {
+      for (size_t i = 0; i < states.size(); ++i)
+        if (!states[i].valid && has_prediction[i] &&
+            (options.lower_lip.with_the_jaw && !on_jaw(i)) == before_the_lower_lip &&
+            !(lower_lip_searched && searched_with_lower_lip(i)))
+          reacquire(i);
+    };
+    one_by_one(true);
+    lower_lip_searched = options.lower_lip.together && reacquire_lower_lip();
+    one_by_one(false);
   }
   int frames_since_tag_detection = 0;
 
@@ -1161,13 +1178,15 @@ struct MarkerTracker::Impl {
     face_scale = global_scale;
     for (size_t i = 0; i < n; ++i) {
       if (states[i].valid) continue;
-      cv::Matx23d fit = global;
+      const bool by_jaw = placed_by_jaw(i);
       std::vector<std::pair<double, size_t>> near;
       for (size_t j = 0; j < n; ++j)
-        if (states[j].valid) near.push_back({cv::norm(reference[j] - reference[i]), j});
+        if (states[j].valid && (!by_jaw || on_jaw(j)))
+          near.push_back({cv::norm(reference[j] - reference[i]), j});
       std::sort(near.begin(), near.end());
+      cv::Matx23d fit = by_jaw ? moved_with(global, near) : global;
       if (near.size() > 6) near.resize(6);
-      if (near.size() >= 4) {
+      if (!by_jaw && near.size() >= 4) {
         std::vector<cv::Point2d> f, t;
         for (const auto& [d, j] : near) f.push_back(reference[j]), t.push_back(states[j].position);
         cv::Mat local = cv::estimateAffine2D(f, t, cv::noArray(), cv::LMEDS);
@@ -1188,6 +1207,19 @@ struct MarkerTracker::Impl {
       carried_now[i] = carry.has_value();
       has_prediction[i] = true;
     }
+  }
+
+  // `global` moved by its miss at the nearest followed jaw dot (`jaw`, nearest first): the face's
+  // fit follows the skull, and an open jaw carries the chin tens of pixels below where it puts
+  // it, onto the lower lip's dot.
+  cv::Matx23d moved_with(const cv::Matx23d& global,
+                         const std::vector<std::pair<double, size_t>>& jaw) const {
+    if (jaw.empty()) return global;
+    const size_t j = jaw.front().second;
+    const cv::Point2d miss = states[j].position - apply(global, reference[j]);
+    cv::Matx23d moved = global;
+    moved(0, 2) += miss.x, moved(1, 2) += miss.y;
+    return moved;
   }
 
   // A lid dot lies at another depth than its neighbours, so under a head turn the start
@@ -1336,11 +1368,16 @@ struct MarkerTracker::Impl {
   // ---- the lower lip (lower_lip_search.hpp) ---------------------------------------------
 
   bool at_lower_lip(size_t i) const { return roles[i] == DotRole::LowerLip; }
+  // LowerLipOptions::with_the_jaw: the dots the jaw carries.
+  bool on_jaw(size_t i) const { return at_lower_lip(i) || on_chin(states[i].spec->feature_point); }
+  bool placed_by_jaw(size_t i) const { return options.lower_lip.with_the_jaw && on_jaw(i); }
   // The lower lip opens with the jaw by up to a spacing in a frame (Xface joy), unlike the
   // upper lip and the corners: its dots are no measure of how theirs should move
-  // (LowerLipOptions::together; its own dots are still judged by theirs).
+  // (LowerLipOptions::together), nor theirs of how its dots should (with_the_jaw: the jaw's
+  // dots are).
   bool apart_from_lower_lip(size_t i, size_t j) const {
-    return options.lower_lip.together && at_lower_lip(j) && !at_lower_lip(i);
+    if (at_lower_lip(i)) return options.lower_lip.with_the_jaw && !on_jaw(j);
+    return options.lower_lip.together && at_lower_lip(j);
   }
 
   // A lower-lip dot not seen when tracking started has a start place that is the
@@ -1551,6 +1588,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, max_relative_motion),
       ROSTRO_NAMED_OPTION(O, max_relative_motion_px),
       ROSTRO_NAMED_OPTION(O, lower_lip.together),
+      ROSTRO_NAMED_OPTION(O, lower_lip.with_the_jaw),
       ROSTRO_NAMED_OPTION(O, lower_lip.up),
       ROSTRO_NAMED_OPTION(O, lower_lip.down),
       ROSTRO_NAMED_OPTION(O, lower_lip.sideways),
