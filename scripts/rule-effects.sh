@@ -20,6 +20,7 @@ rules=(
   "eyes.inner_corner_max_elongation_large|--tracker-option eyes.inner_corner_max_elongation_large=3|turns|data/eval/closed_loop_1280x720.json|close_t_l_eyelid close_t_r_eyelid"
   "eyes.max_lid_surround|--tracker-option eyes.max_lid_surround=1|joy-turns||close_b_l_eyelid close_b_r_eyelid"
   "lower_lip.together|--tracker-option lower_lip.together=false|joy-turns|data/eval/closed_loop_1280x720.json|raise_b_lip_lm_o raise_b_lip_rm_o"
+  "lower_lip.with_the_jaw|--tracker-option lower_lip.with_the_jaw=false|joy-turns|data/eval/closed_loop_1280x720.json|open_jaw raise_b_midlip_o"
   "align_tags|--tracker-option align_tags=false|joy||head_pitch head_yaw"
   "pose_prior_weight|--solver-option pose_prior_weight=0|disgust||head_pitch head_yaw"
 )

@@ -56,7 +56,6 @@ enum class DotRole {
   OtherEye,        // any other point of group 3 (the pupils): an eye dot with no rule of its own
   MidBrow,         // 4.3, 4.4: above the eyebrow's highest point
   LowerLip,        // 8.2, 8.7, 8.8 (lower_lip_search.hpp)
-  Nose,            // group 9: beside the nostrils (TrackerOptions::edge_fit_elsewhere)
   Plain,           // every other dot, and the tags
 };
 
@@ -69,7 +68,6 @@ DotRole role_of(const FeaturePointId& fp) {
                                                                          : DotRole::OtherEye;
   if (fp.group == 4 && (fp.index == 3 || fp.index == 4)) return DotRole::MidBrow;
   if (at_lower_lip(fp)) return DotRole::LowerLip;
-  if (fp.group == 9) return DotRole::Nose;
   return DotRole::Plain;
 }
 
@@ -161,9 +159,7 @@ struct MarkerTracker::Impl {
       const DotRole r = roles[i];
       const bool edge_fit =
           tracking::at_eye(r) ||
-          (r == DotRole::MidBrow
-               ? options.brows.edge_fit_mid_brows
-               : options.edge_fit_elsewhere && r != DotRole::LowerLip && r != DotRole::Nose);
+          (r == DotRole::MidBrow ? options.brows.edge_fit_mid_brows : options.edge_fit_elsewhere);
       const bool upper_face = by_dark_features(points[i]);
       const DotOptions* plain = edge_fit
                                     ? (upper_face ? &options.dots : &lower_face_dots)

@@ -67,15 +67,10 @@ struct TrackerOptions {
   // The edge-fitted centre (DotOptions::edge_fit) for the lid and outer eye-corner dots, where
   // the centroid is pulled toward the slit and the lashes by 0.4-0.6 px (the inner corners: see
   // EyeOptions::inner_corners_raise_share; the mid brows: BrowOptions), and (true) for every
-  // other dot but the nose's and the lower lip's. On a real face the centroid is pulled toward
-  // whatever darker lies beside a dot (a brow's hair, the lip's border, a beard's shade): on
-  // the twelve photo scenes the 95th percentile is within 0.3 px on 9 of them with it, 6
-  // without (docs/accuracy.md, "The edge fit off the eyes"). The nose's dots and the lower
-  // lip's keep the centroid: on the rendered head the nose dots' edge, beside the nostrils,
-  // wavered with the head's turn (640x480 Xface joy's head pitch 7.7 -> 9.4 % of its range
-  // with them edge-fitted), and the middle lower-lip dot, edge-fitted, was lost for two frames
-  // in the open mouth, after which the fit held the jaw shut for the rest of the take (1280x720
-  // joy with turns: open_jaw 2.6 -> 37 %). false: the centroid off the eyes.
+  // other dot. On a real face the centroid is pulled toward whatever darker lies beside a dot (a
+  // brow's hair, the lip's border, a nostril, a beard's shade): on the photo scenes the 95th
+  // percentile is within 0.3 px on 10 of the twelve with it, 6 without (docs/accuracy.md, "The
+  // edge fit for every dot"). false: the centroid off the eyes.
   bool edge_fit_elsewhere = true;
   // The dark-ring test (DotOptions::max_surround, which tells the pupil from a dot) for the
   // dots of the eyes, the brows and the nose only (MPEG-4 groups 3, 4, 9): there a blob in a
