@@ -99,6 +99,13 @@ struct TrackerOptions {
   // cheek is not found on the eye's corner or a lip corner beside it, a lid dot against its
   // lashes still on itself. Negative: any blob that passes the dot checks.
   double found_look_allowance = 0.2;
+  // A dot not seen when tracking started is looked for where its neighbours put the
+  // identification's guess at its start place; once found (on re-acquisition, or named by the
+  // second look) it takes as its start place where its neighbours' motion since the start puts
+  // the dot it was found on. The guess can be a spacing off (on a held-out photo scene the left
+  // mouth corner's, by the moustache, 28 px), and after a hand passed that dot was looked for
+  // there and never found again. false: the guess stays.
+  bool start_place_when_found = true;
   // How far a dot's frame-to-frame motion may differ from its neighbours' (the larger of a
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.
   double max_relative_motion = 0.35;
