@@ -664,14 +664,14 @@ struct MarkerTracker::Impl {
   // merged for a frame is better kept than dropped (the suite's mouth clip: dropped lip dots
   // come back on a neighbour's): the eye dots' stricter checks hold only at the eyes.
   bool at_eye(size_t i) const { return tracking::at_eye(roles[i]); }
-  // How dot i is measured: the edge fit, save the nose's and the lower lip's dots (their
-  // centroid; TrackerOptions::edge_fit_elsewhere, BrowOptions::edge_fit_mid_brows), and
-  // at the inner eye corners the raised share (EyeOptions::inner_corners_raise_share) and
-  // the symmetric centre (inner_corners_symmetric_centre). The raised share not at the other eye
-  // dots: on the lid dots the raised share would take two lid dots merged in a blink (not round at
-  // half, round enough higher up, where 0.4 passes); on the outer corners at 640x480 it found dots
-  // lost before at 0.6 with the line still on, and the edge fit then put 1 in 8 of them 1-1.6 px
-  // off (Xface fear: head yaw 9.4 -> 12.7 %).
+  // How dot i is measured: the edge fit (the centroid where TrackerOptions::edge_fit_elsewhere
+  // or, for the mid brows, BrowOptions::edge_fit_mid_brows is off), and at the inner eye corners
+  // the raised share (EyeOptions::inner_corners_raise_share) and the symmetric centre
+  // (inner_corners_symmetric_centre). The raised share not at the other eye dots: on the lid dots
+  // the raised share would take two lid dots merged in a blink (not round at half, round enough
+  // higher up, where 0.4 passes); on the outer corners at 640x480 it found dots lost before at 0.6
+  // with the line still on, and the edge fit then put 1 in 8 of them 1-1.6 px off (Xface fear: head
+  // yaw 9.4 -> 12.7 %).
   DotOptions centroid_dots, inner_corner_dots, inner_corner_dots_large;
   // As options.dots and centroid_dots, for the dots off the eyes, the brows and the nose: the
   // lips, the jaw, the cheeks (TrackerOptions::surround_test_upper_face_only).
