@@ -1334,24 +1334,15 @@ struct MarkerTracker::Impl {
     if (options.start_place_when_found && !reference_seen[i]) start_where_found(i);
   }
 
-  // TrackerOptions::start_place_when_found: marker i, found, takes the start place its
-  // neighbours' motion since the start puts its dot at (the inverse of an affine fit from their
-  // start places to where they are now, the six nearest that were seen at the start). The
-  // spacings stay the start's: taken again, the chin boss's shrank with the chin's new place
-  // and its search radius with it (the marker suite's low light: 33 -> 80 lost frames).
+  // TrackerOptions::start_place_when_found: marker i, found, takes the start place that the fit
+  // it was looked for by (predict_lost: its neighbours' motion since the start) takes its dot
+  // back to. The spacings stay the start's: taken again, the chin boss's shrank with the chin's
+  // new place and its search radius with it (the marker suite's low light: 33 -> 80 lost frames).
   void start_where_found(size_t i) {
-    std::vector<std::pair<double, size_t>> near;
-    for (size_t j = 0; j < states.size(); ++j)
-      if (j != i && states[j].valid && reference_seen[j] && !states[j].spec->is_tag())
-        near.push_back({cv::norm(states[j].position - states[i].position), j});
-    if (near.size() < 4) return;
-    std::sort(near.begin(), near.end());
-    if (near.size() > 6) near.resize(6);
-    std::vector<cv::Point2d> now, then;
-    for (const auto& [d, j] : near) now.push_back(states[j].position), then.push_back(reference[j]);
-    const cv::Mat back = cv::estimateAffine2D(now, then, cv::noArray(), cv::LMEDS);
-    if (back.empty()) return;
-    reference[i] = apply(cv::Matx23d(back), states[i].position);
+    if (i >= has_prediction.size() || !has_prediction[i]) return;
+    cv::Matx23d back;
+    cv::invertAffineTransform(prediction_fit[i], back);
+    reference[i] = apply(back, states[i].position);
     reference_seen[i] = true;
   }
 
