@@ -37,11 +37,64 @@ std::string share_text(double share) {
   return std::isfinite(share) ? fmt::format("{:.1f} %", 100 * share) : std::string("-");
 }
 
+std::string signed_share_text(double share) {
+  return fmt::format("{:+.1f} %", 100 * share);
+}
+
 std::string view_text(double yaw) {
   return yaw == 0 ? std::string("front") : fmt::format("yaw {:+.0f}", yaw);
 }
 
-// One table, text or Markdown: a row per render.
+// A table as Markdown or as aligned text; the first `left` columns are left-aligned.
+std::string table_text(const std::vector<std::string>& header,
+                       const std::vector<std::vector<std::string>>& rows, std::size_t left,
+                       bool markdown) {
+  std::string out;
+  if (markdown) {
+    auto line = [](const std::vector<std::string>& cells) {
+      std::string s = "|";
+      for (const std::string& c : cells) s += " " + c + " |";
+      return s + "\n";
+    };
+    out += line(header);
+    std::string rule = "|";
+    for (std::size_t i = 0; i < header.size(); ++i) rule += i < left ? "---|" : "---:|";
+    out += rule + "\n";
+    for (const auto& cells : rows) out += line(cells);
+    return out;
+  }
+  std::vector<std::size_t> width(header.size());
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    width[i] = header[i].size();
+    for (const auto& cells : rows) width[i] = std::max(width[i], cells[i].size());
+  }
+  auto line = [&](const std::vector<std::string>& cells) {
+    std::string s;
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      s += i < left ? fmt::format("{:<{}}  ", cells[i], width[i])
+                    : fmt::format("{:>{}}  ", cells[i], width[i]);
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s + "\n";
+  };
+  out += line(header);
+  for (const auto& cells : rows) out += line(cells);
+  return out;
+}
+
+// The scored row's offsets: a row per checked point.
+std::string offsets_table(const HeadCheckRow& row, bool markdown) {
+  std::vector<std::vector<std::string>> rows;
+  std::size_t i = 0;
+  for (const HeadFeature& f : head_check_features())
+    for (const FeaturePointId& p : f.points) {
+      const LandmarkOffset& o = row.offsets.at(i++);
+      rows.push_back({p.str(), f.name, signed_share_text(o.outward), signed_share_text(o.up),
+                      share_text(std::hypot(o.outward, o.up))});
+    }
+  return table_text({"point", "feature", "outward", "up", "distance"}, rows, 2, markdown);
+}
+
+// The tables, text or Markdown: a row per render, then the scored view's offsets.
 std::string table(const HeadCheckResult& r, bool markdown) {
   std::vector<std::string> header{"view", "expression", "face", "IOD px"};
   for (const HeadFeature& f : head_check_features()) header.push_back(f.name);
@@ -58,43 +111,31 @@ std::string table(const HeadCheckResult& r, bool markdown) {
     if (row.scored && markdown) cells[1] = "**" + cells[1] + "** (aim)";
     rows.push_back(cells);
   }
-  std::string out;
-  if (markdown) {
-    auto line = [](const std::vector<std::string>& cells) {
-      std::string s = "|";
-      for (const std::string& c : cells) s += " " + c + " |";
-      return s + "\n";
-    };
-    out += line(header);
-    std::string rule = "|";
-    for (std::size_t i = 0; i < header.size(); ++i) rule += i < 2 ? "---|" : "---:|";
-    out += rule + "\n";
-    for (const auto& cells : rows) out += line(cells);
-  } else {
-    std::vector<std::size_t> width(header.size());
-    for (std::size_t i = 0; i < header.size(); ++i) {
-      width[i] = header[i].size();
-      for (const auto& cells : rows) width[i] = std::max(width[i], cells[i].size());
-    }
-    auto line = [&](const std::vector<std::string>& cells) {
-      std::string s;
-      for (std::size_t i = 0; i < cells.size(); ++i)
-        s += i < 2 ? fmt::format("{:<{}}  ", cells[i], width[i])
-                   : fmt::format("{:>{}}  ", cells[i], width[i]);
-      while (!s.empty() && s.back() == ' ') s.pop_back();
-      return s + "\n";
-    };
-    out += line(header);
-    for (const auto& cells : rows) out += line(cells);
-  }
+  std::string out = table_text(header, rows, 2, markdown);
   out += fmt::format(
       "\nFaces found: {} of {} renders (aim: all). Neutral front view, every checked landmark "
       "within {:.0f} % of the inter-ocular distance: {}.\n",
       r.found, r.renders, 100 * r.options.aim_share, r.landmarks_met ? "met" : "not met");
+  const auto scored = std::find_if(r.rows.begin(), r.rows.end(),
+                                   [](const HeadCheckRow& row) { return row.scored; });
+  if (scored != r.rows.end() && scored->found) {
+    out += fmt::format(
+        "\nNeutral front view, where each landmark lies from the head's point (shares of the "
+        "IOD; outward: + away from the face's midline, toward the image's right for the nose "
+        "tip and the chin; up: + up):\n\n");
+    out += offsets_table(*scored, markdown);
+  }
   return out;
 }
 
 }  // namespace
+
+LandmarkOffset landmark_offset(const FeaturePointId& point, double landmark_x, double landmark_y,
+                               double point_x, double point_y, double midline_x, double iod_px) {
+  // Within a hundredth of the IOD of the midline a point is on it: its side is the image's right.
+  const double side = point_x < midline_x - 0.01 * iod_px ? -1.0 : 1.0;
+  return {point, side * (landmark_x - point_x) / iod_px, (point_y - landmark_y) / iod_px};
+}
 
 const std::vector<HeadFeature>& head_check_features() {
   static const std::vector<HeadFeature> features{
@@ -161,6 +202,7 @@ HeadCheckResult check_head(const FaceModel& model, const ExpressionLibrary& libr
         return px;
       };
       row.iod_px = cv::norm(projected(kRightOuterEye) - projected(kLeftOuterEye));
+      const double midline_x = (projected(kRightOuterEye).x + projected(kLeftOuterEye).x) / 2;
 
       cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
       auto faces =
@@ -179,9 +221,10 @@ HeadCheckResult check_head(const FaceModel& model, const ExpressionLibrary& libr
         for (std::size_t f = 0; f < head_check_features().size(); ++f) {
           double worst = 0;
           for (const FeaturePointId& p : head_check_features()[f].points) {
-            const double e =
-                cv::norm(tracking::mapped_position(*landmark_of.at(p), landmarks) - projected(p)) /
-                row.iod_px;
+            const cv::Point2d l = tracking::mapped_position(*landmark_of.at(p), landmarks),
+                              q = projected(p);
+            row.offsets.push_back(landmark_offset(p, l.x, l.y, q.x, q.y, midline_x, row.iod_px));
+            const double e = cv::norm(l - q) / row.iod_px;
             worst = std::max(worst, e);
             if (e > row.worst_error) {
               row.worst_error = e;

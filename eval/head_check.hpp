@@ -40,6 +40,20 @@ struct HeadFeature {
 };
 const std::vector<HeadFeature>& head_check_features();
 
+// Where dlib's landmark lies from the head's own point, signed, in shares of the IOD: `outward`
+// away from the face's midline (for a point on it, the nose tip and the chin, toward the image's
+// right), `up` toward the top of the image. A reading all inward (eye and mouth corners pulled
+// toward the middle) says something else than one scattered about: it says which way the head
+// differs from the faces the model was trained on.
+struct LandmarkOffset {
+  FeaturePointId point;
+  double outward = 0, up = 0;
+};
+// The offset of a landmark at (landmark_x, landmark_y) from the head's point at (point_x,
+// point_y), image pixels (y down), for a face whose midline is the image column midline_x.
+LandmarkOffset landmark_offset(const FeaturePointId& point, double landmark_x, double landmark_y,
+                               double point_x, double point_y, double midline_x, double iod_px);
+
 struct HeadCheckRow {
   std::string expression;  // "neutral", "joy", ...
   double yaw_deg = 0;
@@ -49,6 +63,8 @@ struct HeadCheckRow {
   // Per head_check_features() entry: the largest error among its points, share of iod_px
   // (NaN when no face was found).
   std::vector<double> feature_error;
+  // Per checked point, in head_check_features() order (empty when no face was found).
+  std::vector<LandmarkOffset> offsets;
   std::string worst_point;  // the point with the largest error ("3.7")
   double worst_error = 0;   // share of iod_px
   bool scored = false;      // the aim applies to this row (neutral, front)
@@ -70,6 +86,7 @@ HeadCheckResult check_head(const FaceModel& model, const ExpressionLibrary& libr
                            const HeadCheckOptions& options = {},
                            const std::function<void(long, long)>& progress = {});
 
+// A row per render, then the neutral front view's signed offsets, a row per checked point.
 std::string head_check_table_text(const HeadCheckResult& result);
 std::string head_check_table_markdown(const HeadCheckResult& result);
 

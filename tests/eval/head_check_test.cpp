@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -65,8 +66,36 @@ TEST(HeadCheck, DlibFindsTheDefaultHeadOnEveryRender) {
     if (!row.found) continue;
     // A landmark set that is not this face at all would sit a whole IOD away.
     for (double e : row.feature_error) EXPECT_LT(e, 0.5) << row.expression << " " << row.yaw_deg;
+    // The signed offsets are the same distances: each feature's largest is its error.
+    std::size_t i = 0;
+    for (std::size_t f = 0; f < head_check_features().size(); ++f) {
+      double worst = 0;
+      for (const FeaturePointId& p : head_check_features()[f].points) {
+        ASSERT_LT(i, row.offsets.size());
+        EXPECT_EQ(row.offsets[i].point, p);
+        worst = std::max(worst, std::hypot(row.offsets[i].outward, row.offsets[i].up));
+        ++i;
+      }
+      EXPECT_NEAR(worst, row.feature_error[f], 1e-9) << head_check_features()[f].name;
+    }
+    EXPECT_EQ(i, row.offsets.size());
   }
   EXPECT_EQ(scored, 1);  // the neutral front view carries the landmark aim
+}
+
+TEST(HeadCheck, OffsetsAreSignedAwayFromTheMidlineAndUp) {
+  const FeaturePointId left_eye{3, 7}, right_eye{3, 12}, nose{9, 3};
+  // The face's midline at x = 300, an IOD of 100 px; image y grows downward.
+  const LandmarkOffset left = landmark_offset(left_eye, 345, 195, 350, 200, 300, 100);
+  EXPECT_EQ(left.point, left_eye);
+  EXPECT_NEAR(left.outward, -0.05, 1e-12);  // 5 px nearer the midline: inward
+  EXPECT_NEAR(left.up, 0.05, 1e-12);        // 5 px higher in the image
+  const LandmarkOffset right = landmark_offset(right_eye, 245, 210, 250, 200, 300, 100);
+  EXPECT_NEAR(right.outward, 0.05, 1e-12);  // 5 px further from the midline: outward
+  EXPECT_NEAR(right.up, -0.1, 1e-12);
+  // A point on the midline takes the image's right as its outward side.
+  const LandmarkOffset tip = landmark_offset(nose, 303, 250, 300.5, 250, 300, 100);
+  EXPECT_NEAR(tip.outward, 0.025, 1e-12);
 }
 
 TEST(HeadCheck, MissingFeaturePointAndModelAreInputErrors) {
