@@ -5,7 +5,8 @@
 // layout's average frontal arrangement (a wide mouth, a long jaw, a smile, a turn), and the
 // landmarks follow the face's own shape where an affine map of the layout cannot; the dots
 // are then named near these places (identify.hpp). The dots themselves sit a little off the
-// landmarks (above the brow hair, beside the eye corners), which the naming allows for.
+// landmarks (above the brow hair, beside the eye corners): the naming looks for each `beside`
+// its landmark, as the layout says it is worn (IdentificationOptions::dots_beside_points).
 
 #include <filesystem>
 #include <map>

@@ -262,6 +262,35 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     int matched = 0;
     double score = 0;  // matched dots, each weighed down by its distance: 1 at its place
   };
+  // A face model marks each dot's feature point, and the dot is worn `beside` it (above the
+  // brow hair, beside the eye's corners, above and below the lids, docs/markers.md): its place
+  // is the model's point moved by that offset, turned and scaled as `mapping` lays the layout
+  // on the image. A dot larger than the layout's is worn with the same clearance from the
+  // feature, so its centre lies farther out by the difference in radius (the matched
+  // detections' median diameter against the layout's).
+  auto worn_places = [&](const cv::Matx23d& mapping, const std::vector<int>& match) {
+    std::map<std::string, cv::Point2d> worn = expected;
+    if (!options.dots_beside_points) return worn;
+    const double px_per_mm = scale_of(mapping);
+    std::vector<double> diameters;
+    for (int k : match)
+      if (k >= 0) diameters.push_back(dots[static_cast<size_t>(k)].diameter);
+    const double measured_mm = px_per_mm > 0 ? quantile(diameters, 0.5, 0) / px_per_mm : 0;
+    const double larger_mm = std::max(0.0, (measured_mm - layout.dot_diameter_mm) / 2);
+    for (const MarkerSpec* dot : layout_dots) {
+      auto it = worn.find(dot->id);
+      if (it == worn.end() || !dot->beside_mm) continue;
+      // beside_mm: x toward the face's left, y up; the layout's frontal axes: y down.
+      cv::Point2d b(dot->beside_mm->x, -dot->beside_mm->y);
+      const double length = cv::norm(b);
+      if (length <= 0) continue;
+      b *= (length + larger_mm) / length;
+      it->second += cv::Point2d(mapping(0, 0) * b.x + mapping(0, 1) * b.y,
+                                mapping(1, 0) * b.x + mapping(1, 1) * b.y);
+    }
+    return worn;
+  };
+
   // Match by proximity, refit an affine from the matches (and tag corners), a few rounds.
   auto settle = [&](cv::Matx23d mapping) {
     Attempt at;
@@ -391,9 +420,10 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     // A model of the face, where the tags agree with it, places the dots it knows better than
     // the affine, and the rest by the layout mapped onto those.
     {
+      const std::map<std::string, cv::Point2d> worn = worn_places(m, best.match);
       std::vector<cv::Point2d> f, t;
       for (size_t i = 0; i < n; ++i)
-        if (auto it = expected.find(layout_dots[i]->id); it != expected.end())
+        if (auto it = worn.find(layout_dots[i]->id); it != worn.end())
           f.push_back(layout_points[i]), t.push_back(it->second);
       cv::Mat a;
       if (f.size() >= 6)
@@ -407,7 +437,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
         std::vector<cv::Point2d> offset(n);
         std::vector<bool> known(n, false);
         for (size_t i = 0; i < n; ++i)
-          if (auto it = expected.find(layout_dots[i]->id); it != expected.end())
+          if (auto it = worn.find(layout_dots[i]->id); it != worn.end())
             offset[i] = it->second - apply(face, layout_points[i]), known[i] = true;
         for (size_t i = 0; i < n; ++i) {
           cv::Point2d sum(0, 0);

@@ -77,6 +77,10 @@ struct IdentificationOptions {
   // The named dots' median elongation (long over short axis) above this is motion blur: a
   // smeared dot's centre, and so its name, is unsure.
   double max_elongation = 1.5;
+  // The face model's places are its feature points; each dot is looked for `beside` its point
+  // as the layout says it is worn (and farther out by how much larger than the layout's the
+  // dots are). false: at the point itself.
+  bool dots_beside_points = true;
   // Name the dots near where dlib's landmarks put them on this face (face_prior.hpp); empty:
   // by the layout's arrangement alone. MarkerTracker reads it; identify_markers() takes the
   // places themselves.

@@ -1615,6 +1615,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, identification.alone_share),
       ROSTRO_NAMED_OPTION(O, identification.ink_weight),
       ROSTRO_NAMED_OPTION(O, identification.lower_lip_apart),
+      ROSTRO_NAMED_OPTION(O, identification.dots_beside_points),
       ROSTRO_NAMED_OPTION(O, identification.unnamed_rival),
       ROSTRO_NAMED_OPTION(O, identification.sure_within),
       ROSTRO_NAMED_OPTION(O, identification.min_explained),
