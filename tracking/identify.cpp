@@ -430,9 +430,9 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
         a = cv::estimateAffine2D(f, t, cv::noArray(), cv::RANSAC, 0.3 * closest_typical * scale);
       if (!a.empty() && 2 * tags_agreeing(cv::Matx23d(a)) >= static_cast<int>(seen_tags.size())) {
         // The face's shape, not its points: the layout mapped by the affine through the
-        // model's places, plus their offsets from it smoothed over neighbours (a landmark
-        // may sit a little off where the dot is worn: at the visible eye corner, on the brow
-        // hair), shrunk toward none where the model places no dot near.
+        // model's places (where the dots are worn), plus their offsets from it smoothed over
+        // neighbours (a landmark still sits a little off: at the visible eye corner, on the
+        // brow hair), shrunk toward none where the model places no dot near.
         const cv::Matx23d face(a);
         std::vector<cv::Point2d> offset(n);
         std::vector<bool> known(n, false);

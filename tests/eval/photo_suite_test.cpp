@@ -299,10 +299,9 @@ tracking::TrackerOptions finding_any_blob(tracking::TrackerOptions o = {}) {
 
 // In the held-out small face at 640x480 (small_vga_s5 in data/eval/photo_scenes_heldout.json),
 // identification weighing a faint blob half as much as by default (ink_weight 0.15), the dots
-// looked for at their points, names the
-// right inner eye-corner dot on the eye's own corner, 11 px off. The second look, 10 frames on,
-// places the name back on its dot, which is round and stands on plain skin where the corner is
-// elongated; without it the name stays on the corner.
+// looked for at their points, names the right inner eye-corner dot on the eye's own corner, 11 px
+// off. The second look, 10 frames on, places the name back on its dot, which is round and stands
+// on plain skin where the corner is elongated; without it the name stays on the corner.
 TEST(PhotoSuite, AnEyeDotNamedOnTheEyesCornerIsPlacedBackByItsLook) {
   if (!std::filesystem::is_directory(default_faces_dir()))
     GTEST_SKIP() << default_faces_dir() << " is absent (../shared beside the repository)";
