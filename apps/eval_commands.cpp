@@ -191,10 +191,11 @@ std::vector<Scenario> chosen_scenarios(const std::vector<Scenario>& all, const s
   return chosen;
 }
 
-// What the suite and the closed loop render: the default head, its expressions, a layout.
+// What the suite and the closed loop render: a head (the default one unless `head_path` names
+// a face model JSON), its expressions, a layout.
 struct Scene {
-  explicit Scene(const std::string& layout_path)
-      : model(load_default_face_model()),
+  Scene(const std::string& layout_path, const std::string& head_path)
+      : model(head_path.empty() ? load_default_face_model() : load_face_model(head_path)),
         library(ExpressionLibrary::load_default()),
         layout(tracking::load_layout(layout_path.empty() ? tracking::default_layout_path()
                                                          : std::filesystem::path(layout_path))) {}
@@ -204,7 +205,7 @@ struct Scene {
 };
 
 struct SuiteArgs {
-  std::string suite, layout, markdown, only;
+  std::string suite, layout, head, markdown, only;
   std::vector<std::string> tracker_options;  // NAME=VALUE
 };
 
@@ -223,7 +224,7 @@ void eval_suite(const SuiteArgs& a) {
       a.suite.empty() ? eval::default_suite_path() : std::filesystem::path(a.suite));
   const auto chosen = chosen_scenarios(suite.scenarios, a.only);
   const tracking::TrackerOptions tracker = with_tracker_options(a.tracker_options);
-  const Scene scene(a.layout);
+  const Scene scene(a.layout, a.head);
 
   std::vector<eval::SuiteRow> rows;
   // A signal abandons the run before any table is written.
@@ -246,11 +247,12 @@ void eval_suite(const SuiteArgs& a) {
               eval::loss_table_text(rows).c_str());
   if (!a.markdown.empty()) {
     const std::string body = fmt::format(
-        "Written by `rostro eval suite --markdown`{} (rostro {}) on {}.\n\n{}\nLost "
+        "Written by `rostro eval suite{} --markdown`{} (rostro {}) on {}.\n\n{}\nLost "
         "marker-frames by the rule that dropped them (tracking::LostReason, kept while the "
         "marker stays lost; every layout marker, visible in the truth or not):\n\n{}",
-        options_note(a.tracker_options, {}), ROSTRO_VERSION, utc_now(),
-        eval::suite_table_markdown(rows), eval::loss_table_markdown(rows));
+        a.head.empty() ? "" : " --head " + a.head, options_note(a.tracker_options, {}),
+        ROSTRO_VERSION, utc_now(), eval::suite_table_markdown(rows),
+        eval::loss_table_markdown(rows));
     eval::replace_markdown_section(a.markdown, "## Suite table", body);
     std::printf("table written to %s (section \"Suite table\")\n", a.markdown.c_str());
   }
@@ -383,7 +385,7 @@ void eval_head(const HeadArgs& a) {
 }
 
 struct LoopArgs {
-  std::string file, layout, markdown, only, out;
+  std::string file, layout, head, markdown, only, out;
   FaceTrackerArgs face;  // --markerless: the head rendered bare, tracked by its landmarks
   std::vector<std::string> tracker_options, solver_options;  // NAME=VALUE
   double truth_noise_px = 0;
@@ -412,7 +414,7 @@ void eval_loop(const LoopArgs& a) {
   mapping::SolverOptions solver;
   for (const std::string& s : a.solver_options) mapping::set_solver_option(solver, s);
   solver.validate();
-  const Scene scene(a.layout);
+  const Scene scene(a.layout, a.head);
 
   std::vector<eval::LoopResult> results;
   std::string skipped, scenarios;
@@ -452,6 +454,7 @@ void eval_loop(const LoopArgs& a) {
       tracking::write_tracks(dir / (r.name + ".tracks.csv"), r.tracks);
       tracking::write_tracks(dir / (r.name + ".truth.csv"), r.truth_tracks);
       for (const auto& score : r.scores) {
+        if (!score.failure.empty()) continue;  // it wrote nothing
         std::string label = score.label();
         std::replace(label.begin(), label.end(), ' ', '-');
         label.erase(std::remove(label.begin(), label.end(), ','), label.end());
@@ -465,6 +468,7 @@ void eval_loop(const LoopArgs& a) {
   if (!a.markdown.empty()) {
     std::string flag = a.face.markerless ? " --markerless" : "";
     if (!a.file.empty()) flag += " --file " + a.file;
+    if (!a.head.empty()) flag += " --head " + a.head;
     std::string body = fmt::format(
         "Written by `rostro eval loop{} --markdown`{} (rostro {}) on {}; scenarios in "
         "`{}`. Each clip is rendered in-process (no video "
@@ -604,6 +608,9 @@ void add_eval_commands(CLI::App& app) {
   suite->add_option("--suite", su.suite, "suite definition (default data/eval/suite.json)");
   suite->add_option("--layout", su.layout,
                     "marker layout JSON (default data/layouts/default.json)");
+  suite->add_option("--head", su.head,
+                    "face model JSON to render, e.g. from rostro head (default: the default "
+                    "head)");
   suite->add_option("--only", su.only, "run only these scenarios, e.g. still,turns");
   suite->add_option("--markdown", su.markdown,
                     "write the table into this Markdown file's \"## Suite table\" section");
@@ -667,6 +674,8 @@ void add_eval_commands(CLI::App& app) {
   loop->add_option("--file", lo.file,
                    "closed-loop definition (default data/eval/closed_loop.json)");
   loop->add_option("--layout", lo.layout, "marker layout JSON (default data/layouts/default.json)");
+  loop->add_option("--head", lo.head,
+                   "face model JSON to render, e.g. from rostro head (default: the default head)");
   loop->add_flag("--markerless", lo.face.markerless,
                  "render the head bare and track it by its 68 landmarks (rostro capture "
                  "--markerless)");
@@ -697,7 +706,9 @@ void add_eval_commands(CLI::App& app) {
       "  rostro eval loop --only still,turns\n"
       "  rostro eval loop --markdown docs/accuracy.md\n"
       "  rostro eval loop --markerless --only still,joy\n"
-      "  rostro eval loop --markerless --only still --truth-noise 0.5");
+      "  rostro eval loop --markerless --only still --truth-noise 0.5\n"
+      "  rostro head -o head20k --vertices 20000 && rostro eval loop --head head20k/head.json "
+      "--only still");
   loop->callback([] { eval_loop(lo); });
 
   static AlignmentArgs al;

@@ -135,6 +135,7 @@ std::string worst_label(const LoopScore& s) {
 }
 
 std::string met_label(const LoopScore& s) {
+  if (!s.failure.empty()) return "failed: " + s.failure;
   if (s.scored == 0) return "no FAP scored";
   std::string out = s.met ? "met" : "not met";
   if (!s.not_output.empty()) out += fmt::format(" ({} not output)", s.not_output.size());
@@ -291,6 +292,8 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   r.frames = total;
   r.aim = s.aim;
   const long calibration_frames = std::max(1L, std::lround(s.calibration_seconds * fps));
+  // The profile the tracked FAPs are read from: the Ceres fit's on the tracker's tracks, or
+  // on the exact tracks where the tracker's calibration failed.
   std::optional<calib::ActorProfile> ceres_profile;
   mapping::MapperOptions ceres_options;
   std::vector<LoopMethod> methods(kLoopMethods.begin(), kLoopMethods.end());
@@ -313,9 +316,15 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
     const auto& input = m == LoopMethod::CeresOnTruth        ? truth.truth
                         : m == LoopMethod::CeresOnNoisyTruth ? noisy
                                                              : tracked;
-    for (const auto& f : input)
-      for (FapFrame& out : take.push(f)) est.frames.push_back(std::move(out));
-    for (FapFrame& out : take.finish()) est.frames.push_back(std::move(out));
+    try {
+      for (const auto& f : input)
+        for (FapFrame& out : take.push(f)) est.frames.push_back(std::move(out));
+      for (FapFrame& out : take.finish()) est.frames.push_back(std::move(out));
+    } catch (const InputError& e) {
+      score.failure = e.what();
+      r.scores.push_back(std::move(score));
+      continue;
+    }
     est.header.frame_count = static_cast<long>(est.frames.size());
 
     score.calibration_frames = take.calibration_frames_used();
@@ -323,12 +332,15 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
                                         [](const FapFrame& f) { return f.mask.any(); });
     score.eval = evaluate_faps(drive, est);
     score.estimate = std::move(est);
-    if (m == LoopMethod::Ceres) {
+    if (m == LoopMethod::Ceres || (m == LoopMethod::CeresOnTruth && !ceres_profile)) {
       ceres_profile = *take.profile();
       ceres_options = options;
     }
     r.scores.push_back(std::move(score));
   }
+  if (!ceres_profile)
+    throw InputError("closed loop " + s.name +
+                     ": no Ceres fit calibrated the actor: " + r.score(LoopMethod::Ceres).failure);
 
   // The tracked FAPs: what the Ceres fit measures with this clip's profile, built with the
   // options make_fap_mapper() gives it, and moved by the drive.
@@ -348,6 +360,10 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   r.truth_tracks = truth.truth;
 
   for (LoopScore& score : r.scores) {
+    if (!score.failure.empty()) {
+      score.not_output = r.tracked;
+      continue;
+    }
     double sum = 0;
     for (int id : r.tracked) {
       const FapError* e = score.find(id);

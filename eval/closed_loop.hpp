@@ -102,6 +102,9 @@ struct LoopScore {
   double coverage = 1.0;
   int worst_fap = 0;
   bool met = false;  // every tracked FAP scored and within the aim
+  // Why this method wrote nothing (its actor calibration failed on these tracks, say); empty
+  // when it ran. One method's failure does not end the scenario: the others are still scored.
+  std::string failure;
   const FapError* find(int fap) const;
   std::string label() const;  // method_label(), with the noise's sigma where there is one
 };

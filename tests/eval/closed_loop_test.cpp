@@ -189,6 +189,38 @@ TEST_F(ClosedLoopRun, StillHeadOpenJawWithinFivePercent) {
   EXPECT_NE(table.find("open_jaw"), std::string::npos);
 }
 
+// One method's failure is that method's row: a layout without a nose-tip dot leaves the seed
+// method no reference point to calibrate on, and the Ceres fits, which need none, are still
+// scored beside it.
+TEST_F(ClosedLoopRun, AMethodThatCannotCalibrateFailsInItsOwnRow) {
+  tracking::MarkerLayout no_nose_tip = *layout_;
+  std::erase_if(no_nose_tip.markers, [](const tracking::MarkerSpec& m) {
+    return m.feature_point == FeaturePointId{9, 3};
+  });
+  ASSERT_EQ(no_nose_tip.markers.size() + 1, layout_->markers.size());
+  LoopScenario s;
+  s.name = s.title = "still, 2 s";
+  s.seconds = 2;
+  LoopResult r;
+  try {
+    r = run_loop_scenario(s, *model_, &*library_, no_nose_tip);
+  } catch (const render::RenderUnavailable& e) {
+    GTEST_SKIP() << "no OpenGL: " << e.what();
+  }
+  ASSERT_FALSE(r.tracked.empty());
+  const LoopScore& seed = r.score(LoopMethod::Seed2d);
+  EXPECT_NE(seed.failure.find("nose-tip"), std::string::npos) << seed.failure;
+  EXPECT_FALSE(seed.met);
+  EXPECT_EQ(seed.scored, 0);
+  EXPECT_EQ(seed.not_output, r.tracked);
+  EXPECT_NE(loop_summary_text({r}).find("failed: "), std::string::npos);
+  for (LoopMethod m : {LoopMethod::Ceres, LoopMethod::CeresOnTruth}) {
+    const LoopScore& ceres = r.score(m);
+    EXPECT_TRUE(ceres.failure.empty()) << method_label(m) << ": " << ceres.failure;
+    EXPECT_EQ(ceres.scored, static_cast<int>(r.tracked.size())) << method_label(m);
+  }
+}
+
 // The same head generated with four times the vertices (facecore/head_generator.hpp): a face the
 // tracker was not tuned on, its eyes' corners and brows sampled elsewhere, and so read a little
 // differently by dlib's landmarks, which place the dots for their naming. Looked for at their
