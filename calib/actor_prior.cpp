@@ -100,16 +100,21 @@ std::vector<Eigen::Vector3d> front_skin(const FaceModel& model) {
   return out;
 }
 
+ActorPrior actor_prior(std::shared_ptr<const FaceModel> head) {
+  auto motion = std::make_shared<const std::vector<FapMotion>>(vertex_motion(*head));
+  return {head->feature_point_positions(),
+          "the head " + head->name,
+          at_feature_points(*head, *motion),
+          front_skin(*head),
+          head,
+          motion};
+}
+
 ActorPrior load_actor_prior() {
   try {
-    auto head = std::make_shared<const FaceModel>(load_default_face_model());
-    auto motion = std::make_shared<const std::vector<FapMotion>>(vertex_motion(*head));
-    return {head->feature_point_positions(),
-            "the default head (" + head->name + ")",
-            at_feature_points(*head, *motion),
-            front_skin(*head),
-            head,
-            motion};
+    ActorPrior prior = actor_prior(std::make_shared<const FaceModel>(load_default_face_model()));
+    prior.name = "the default head (" + prior.head->name + ")";
+    return prior;
   } catch (const InputError&) {
     return {generic_face_points(), "rostro's built-in generic face", {}, {}, nullptr, nullptr};
   }

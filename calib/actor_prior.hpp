@@ -47,7 +47,9 @@ std::map<FeaturePointId, std::map<int, Eigen::Vector3d>> feature_point_motion(
 std::optional<PriorPlace> place_beside(const ActorPrior& prior, FeaturePointId fp,
                                        const Eigen::Vector2d& beside);
 
-// The default head's feature points, or rostro's built-in generic face when no head loads.
+// The prior of `head`: its feature points, skin and deformation.
+ActorPrior actor_prior(std::shared_ptr<const FaceModel> head);
+// The default head's prior, or rostro's built-in generic face when no head loads.
 ActorPrior load_actor_prior();
 
 // Calibration options for `layout` on `prior`: nominal marker positions and rigid markers.

@@ -298,12 +298,16 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   mapping::MapperOptions ceres_options;
   std::vector<LoopMethod> methods(kLoopMethods.begin(), kLoopMethods.end());
   if (s.truth_noise_px > 0) methods.push_back(LoopMethod::CeresOnNoisyTruth);
+  // The head the clip shows is the one the fit models: on a head other than the default one
+  // the loop measures the tracking, not how two heads' deformations differ.
+  const auto prior_head = std::make_shared<const FaceModel>(model);
   for (LoopMethod m : methods) {
     mapping::MapperOptions options;
     options.method = m == LoopMethod::Seed2d ? mapping::Method::Seed2d : mapping::Method::Ceres;
     options.solver = solver_options;
     options.hierarchy = mapping::default_hierarchy();  // as `rostro capture` maps by default
     mapping::TakeMapper take(layout, options, truth.intrinsics, std::nullopt, calibration_frames);
+    take.calibrate_on(prior_head);
     LoopScore score;
     score.method = m;
     if (m == LoopMethod::CeresOnNoisyTruth) score.noise_px = s.truth_noise_px;

@@ -133,8 +133,10 @@ using LoopProgress = std::function<void(long, long)>;
 // calibrated on.
 using TrackerFactory = std::function<std::unique_ptr<tracking::FaceTracker>()>;
 
-// Runs one scenario (not a skipped one), tracked by make_tracker()'s tracker and fitted (both
-// Ceres methods) with `solver_options`. Throws render::RenderUnavailable without OpenGL.
+// Runs one scenario (not a skipped one): `model` rendered, tracked by make_tracker()'s tracker
+// and fitted (both Ceres methods) with `solver_options`, the actor calibrated on `model`'s own
+// prior (its feature points and deformation), as `rostro capture` calibrates on the default
+// head. Throws render::RenderUnavailable without OpenGL.
 LoopResult run_loop_scenario(const LoopScenario& scenario, const FaceModel& model,
                              const ExpressionLibrary* library, const TrackerFactory& make_tracker,
                              const LoopProgress& progress = {},

@@ -48,7 +48,8 @@ std::optional<tracking::HeadPose> TakeMapper::last_pose() const {
 
 void TakeMapper::calibrate() {
   // The prior is only needed here; the options point into it, so it lives as long as they do.
-  const calib::ActorPrior prior = calib::load_actor_prior();
+  const calib::ActorPrior prior =
+      prior_head_ ? calib::actor_prior(prior_head_) : calib::load_actor_prior();
   std::vector<tracking::TrackedFrame> neutral;
   for (const tracking::TrackedFrame& f : pending_)
     if (std::any_of(f.markers.begin(), f.markers.end(),

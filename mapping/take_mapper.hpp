@@ -14,6 +14,7 @@
 #include "calib/actor_profile.hpp"
 #include "calib/camera_intrinsics.hpp"
 #include "calib/neutral_motion.hpp"
+#include "facecore/face_model.hpp"
 #include "facecore/fap_frame.hpp"
 #include "mapping/fap_mapper.hpp"
 #include "tracking/layout.hpp"
@@ -25,11 +26,14 @@ class TakeMapper {
  public:
   // `camera` replaces the profile's intrinsics (and is what a calibration here assumes).
   // Without `profile`, the actor is calibrated from the first `calibration_frames` frames
-  // (at least one) on the default head's prior, for `layout`.
+  // (at least one) on the default head's prior (or calibrate_on()'s), for `layout`.
   TakeMapper(const tracking::MarkerLayout& layout, MapperOptions options,
              const calib::CameraIntrinsics& camera, std::optional<calib::ActorProfile> profile,
              long calibration_frames);
   ~TakeMapper();
+  // Calibrate on `head`'s prior (its feature points and deformation) instead of the default
+  // head's: the head a clip was rendered from, in `rostro eval loop --head`.
+  void calibrate_on(std::shared_ptr<const FaceModel> head) { prior_head_ = std::move(head); }
   TakeMapper(const TakeMapper&) = delete;
   TakeMapper& operator=(const TakeMapper&) = delete;
 
@@ -72,7 +76,8 @@ class TakeMapper {
   std::deque<tracking::TrackedFrame> pending_;
   long calibrated_from_ = 0;
   std::optional<calib::NeutralMotion> calibration_motion_;
-  long usable_ = 0;  // held-back frames with any valid marker
+  long usable_ = 0;                              // held-back frames with any valid marker
+  std::shared_ptr<const FaceModel> prior_head_;  // null: the default head
 };
 
 }  // namespace rostro::mapping

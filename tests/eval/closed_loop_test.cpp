@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "eval/track_metrics.hpp"
 #include "facecore/error.hpp"
@@ -236,8 +237,10 @@ TEST_F(ClosedLoopRun, AHeadOfAnotherDensityIsTrackedAsWell) {
   ASSERT_NE(still, d.scenarios.end());
   const LoopScenario& s = *still;
   // Observations named on something that is not their dot: swapped or astray.
+  std::optional<LoopResult> beside_run;
   auto misnamed = [&](const tracking::TrackerOptions& options) {
     const LoopResult r = run_loop_scenario(s, dense, &*library_, *layout_, {}, options);
+    if (options.identification.dots_beside_points) beside_run = r;
     const TrackEvalResult e = evaluate_tracks(r.truth_tracks, r.tracks);
     std::printf("%s: %ld swapped, %ld astray, %ld lost\n",
                 options.identification.dots_beside_points ? "beside" : "at points",
@@ -255,6 +258,11 @@ TEST_F(ClosedLoopRun, AHeadOfAnotherDensityIsTrackedAsWell) {
   }
   EXPECT_EQ(beside, 0);
   EXPECT_GT(at_points, 100);
+  // The fit models the head it is shown (its own deformation, not the default head's, whose
+  // mid-brow and lids move otherwise at another sampling: 54 % on raise_l_m_eyebrow).
+  ASSERT_TRUE(beside_run.has_value());
+  const LoopScore& exact = beside_run->score(LoopMethod::CeresOnTruth);
+  EXPECT_TRUE(exact.met) << "worst share " << exact.max_share << " on FAP " << exact.worst_fap;
 }
 
 // The exact tracks with Gaussian noise (`rostro eval loop --truth-noise`): a fourth score,
