@@ -24,7 +24,7 @@ namespace rostro::app {
 namespace {
 
 struct SynthArgs {
-  std::string output, fap, layout, size = "640x480";
+  std::string output, fap, layout, face_model, size = "640x480";
   double fps = 25, seconds = 0, neutral_lead = 0;
   eval::SynthOptions o;
   eval::HeadSweeps head;  // turns written into the drive's FAPs 48-50
@@ -54,7 +54,8 @@ void synth(SynthArgs a) {
   eval::add_head_sweeps(drive, a.head);
   drive.header.frame_count = static_cast<long>(drive.frames.size());
 
-  const FaceModel model = load_default_face_model();
+  const FaceModel model =
+      a.face_model.empty() ? load_default_face_model() : load_face_model(a.face_model);
   const ExpressionLibrary library = ExpressionLibrary::load_default();
   if (a.no_markers && !a.layout.empty())
     throw CLI::ValidationError("--no-markers", "renders no layout; leave out --layout");
@@ -106,12 +107,16 @@ void synth(SynthArgs a) {
 void add_synth_commands(CLI::App& app) {
   static SynthArgs a;
   CLI::App* cmd = app.add_subcommand(
-      "synth", "Render a clip of the default head (with markers or bare) with exact ground truth");
+      "synth",
+      "Render a clip of the default head, or another by --head (with markers or bare), with "
+      "exact ground truth");
   cmd->add_option("-o,--output", a.output,
                   "path prefix: writes PREFIX.mp4, .truth.csv, .fap, .intrinsics.yml")
       ->required();
   cmd->add_option("--fap", a.fap, "FAP stream driving the face (default: a range-of-motion clip)");
   cmd->add_option("--layout", a.layout, "marker layout JSON (default data/layouts/default.json)");
+  cmd->add_option("--head", a.face_model,
+                  "face model JSON to render, e.g. from rostro head (default: the default head)");
   cmd->add_flag("--no-markers", a.no_markers,
                 "render the head bare (for --markerless); the truth is its feature points "
                 "that the iBUG landmarks name");
