@@ -110,6 +110,8 @@ struct FapSolver::Impl {
   // Fitted FAP -> the markers that measure it: those it moves at least kMeasuringShare as far as
   // the marker it moves most (its own feature point's).
   std::vector<std::vector<std::size_t>> measured_by;
+  // Fitted FAP -> the markers that read it at all (SolverOptions::min_reading_share).
+  std::vector<std::vector<std::size_t>> read_by;
   std::vector<double> px_per_unit;  // per fitted FAP: pixels per unit at its most moved marker
   double neutral_pose[6] = {0, 0, 0, 0, 0, 0};
   double last_pose[6] = {0, 0, 0, 0, 0, 0};      // pose of the frame before the previous one
@@ -207,11 +209,13 @@ struct FapSolver::Impl {
       problem.AddResidualBlock(costs.back().get(), loss.get(), x.data());
     }
     measured_by.resize(fap_count());
+    read_by.resize(fap_count());
     for (std::size_t i = 0; i < model.markers.size(); ++i)
       for (const FapStep& s : model.markers[i].faps) {
         const auto slot = static_cast<std::size_t>(fap_slot[static_cast<std::size_t>(s.fap)]);
-        if (s.step.norm() * cam.fx / depth >= kMeasuringShare * px_per_unit[slot])
-          measured_by[slot].push_back(i);
+        const double share = s.step.norm() * cam.fx / depth / px_per_unit[slot];
+        if (share >= kMeasuringShare) measured_by[slot].push_back(i);
+        if (share >= options.min_reading_share) read_by[slot].push_back(i);
       }
     if (options.pose_prior_weight > 0) {
       // Pixels per radian of rotation (the markers' RMS distance from their centroid as the
@@ -465,12 +469,13 @@ struct FapSolver::Impl {
       observations[which[n]] = {pixels[n].x, pixels[n].y, true};
     }
 
-    // A FAP no valid marker sees keeps its previous value (the prior is its only residual)
-    // and is not reported; nor is one seen only through a marker it barely moves (see
-    // kMeasuringShare), which the fit still moves to explain that marker.
+    // A FAP no valid marker reads (SolverOptions::min_reading_share) is not reported: its
+    // prior holds it near its previous value, which the fit still moves to explain a marker
+    // it barely moves. One read but not measured is left to its twin when near it (see
+    // kMeasuringShare).
     std::vector<bool> seen(fap_count(), false), measured(fap_count(), false);
     for (std::size_t s = 0; s < fap_count(); ++s) {
-      for (std::size_t i : markers_of_fap[s]) seen[s] = seen[s] || observations[i].active;
+      for (std::size_t i : read_by[s]) seen[s] = seen[s] || observations[i].active;
       for (std::size_t i : measured_by[s]) measured[s] = measured[s] || observations[i].active;
     }
     // The pose prior's target: the previous pose moved on by the smoothed velocity.
@@ -580,6 +585,7 @@ void SolverOptions::validate() const {
   check.not_negative("pose_prior_weight", pose_prior_weight)
       .positive("pose_prior_scale_px", pose_prior_scale_px)
       .within("pose_velocity_gain", pose_velocity_gain, 0, 1)
+      .within("min_reading_share", min_reading_share, 0, 1)
       .positive("max_iterations", max_iterations)
       .not_negative("function_tolerance", function_tolerance)
       .not_negative("parameter_tolerance", parameter_tolerance)
@@ -590,19 +596,13 @@ void SolverOptions::validate() const {
 void set_solver_option(SolverOptions& options, const std::string& assignment) {
   using O = SolverOptions;
   static const std::vector<NamedOption<O>> table = {
-      ROSTRO_NAMED_OPTION(O, model.fit_depth_faps),
-      ROSTRO_NAMED_OPTION(O, loss_scale_px),
-      ROSTRO_NAMED_OPTION(O, prior_weight),
-      ROSTRO_NAMED_OPTION(O, pose_prior_weight),
-      ROSTRO_NAMED_OPTION(O, pose_prior_scale_px),
-      ROSTRO_NAMED_OPTION(O, pose_velocity_gain),
-      ROSTRO_NAMED_OPTION(O, max_iterations),
-      ROSTRO_NAMED_OPTION(O, function_tolerance),
-      ROSTRO_NAMED_OPTION(O, parameter_tolerance),
-      ROSTRO_NAMED_OPTION(O, min_markers),
-      ROSTRO_NAMED_OPTION(O, head_faps),
-      ROSTRO_NAMED_OPTION(O, refine_default_focal),
-      ROSTRO_NAMED_OPTION(O, focal_prior_sigma),
+      ROSTRO_NAMED_OPTION(O, model.fit_depth_faps), ROSTRO_NAMED_OPTION(O, loss_scale_px),
+      ROSTRO_NAMED_OPTION(O, prior_weight),         ROSTRO_NAMED_OPTION(O, pose_prior_weight),
+      ROSTRO_NAMED_OPTION(O, pose_prior_scale_px),  ROSTRO_NAMED_OPTION(O, pose_velocity_gain),
+      ROSTRO_NAMED_OPTION(O, min_reading_share),    ROSTRO_NAMED_OPTION(O, max_iterations),
+      ROSTRO_NAMED_OPTION(O, function_tolerance),   ROSTRO_NAMED_OPTION(O, parameter_tolerance),
+      ROSTRO_NAMED_OPTION(O, min_markers),          ROSTRO_NAMED_OPTION(O, head_faps),
+      ROSTRO_NAMED_OPTION(O, refine_default_focal), ROSTRO_NAMED_OPTION(O, focal_prior_sigma),
   };
   set_named_option(options, table, "SolverOptions", assignment);
 }

@@ -86,6 +86,12 @@ struct SolverOptions {
     std::vector<int> faps;
   };
   std::vector<HoldWhileHidden> hold_while_hidden = {{"2.1", {18}}};
+  // A FAP is reported only in frames where a marker that reads it is valid: one it moves at
+  // least this share as far as the marker it moves most (its own point's). Through a marker
+  // it barely moves (the outer brow's FAP through the mid-brow dot, 3 %) the fit cannot tell
+  // it from its weak prior: with its own dot lost it stays where it was while the brow moves,
+  // and is better left to the hierarchy's mirror of its measured twin, or unwritten.
+  double min_reading_share = 0.1;
   // With default intrinsics (no --camera), the focal length is a guess that bends every FAP
   // once the head turns (a focal length 40 % short bends them by most of their range at 25
   // degrees of yaw). Refine it from the frames themselves: a recursive least-squares

@@ -11,7 +11,9 @@ only=${2:-}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# rule | options that turn it off | scenario | loop file ("" = 640x480) | FAP names to show
+# rule | options that turn it off | scenario | loop file ("" = 640x480) | FAP names to show |
+# the head's vertices ("" = the default head; else `rostro head --vertices N`, a head no rule was
+# tuned on, where the rule's case arises)
 rules=(
   "brows.edge_fit_mid_brows|--tracker-option brows.edge_fit_mid_brows=false|fear||raise_l_m_eyebrow raise_r_m_eyebrow"
   "edge_fit_elsewhere|--tracker-option edge_fit_elsewhere=false|turns|data/eval/closed_loop_1280x720.json|raise_b_midlip_o lower_t_midlip_o"
@@ -23,16 +25,22 @@ rules=(
   "lower_lip.with_the_jaw|--tracker-option lower_lip.with_the_jaw=false|joy-turns|data/eval/closed_loop_1280x720.json|open_jaw raise_b_midlip_o"
   "align_tags|--tracker-option align_tags=false|joy||head_pitch head_yaw"
   "pose_prior_weight|--solver-option pose_prior_weight=0|disgust||head_pitch head_yaw"
+  "min_reading_share|--solver-option min_reading_share=0|turns|data/eval/closed_loop_1280x720.json|raise_l_o_eyebrow raise_r_o_eyebrow|20000"
 )
 
-# Runs the loop once for a scenario, file and options; caches by those.
+# Runs the loop once for a scenario, file, options and head; caches by those.
 run() {
-  local scenario=$1 file=$2 options=$3
-  local key
-  key=$(echo "$scenario|$file|$options" | md5sum | cut -c1-12)
+  local scenario=$1 file=$2 options=$3 vertices=$4
+  local key head=""
+  key=$(echo "$scenario|$file|$options|$vertices" | md5sum | cut -c1-12)
+  if [ -n "$vertices" ]; then
+    head="$work/head$vertices/head.json"
+    [ -s "$head" ] || "$rostro" head -o "$work/head$vertices" --vertices "$vertices" >/dev/null
+  fi
   if [ ! -s "$work/$key" ]; then
     # shellcheck disable=SC2086
-    "$rostro" eval loop --only "$scenario" ${file:+--file "$file"} $options >"$work/$key" 2>/dev/null
+    "$rostro" eval loop --only "$scenario" ${file:+--file "$file"} ${head:+--head "$head"} \
+      $options >"$work/$key" 2>/dev/null
   fi
   echo "$work/$key"
 }
@@ -50,11 +58,11 @@ worst() {
 echo "| rule | off with | scenario | FAP | on | off | scenario, on | scenario, off |"
 echo "|---|---|---|---|---|---|---|---|"
 for rule in "${rules[@]}"; do
-  IFS='|' read -r name options scenario file faps <<<"$rule"
+  IFS='|' read -r name options scenario file faps vertices <<<"$rule"
   [ -z "$only" ] || [ "$name" = "$only" ] || continue
-  on=$(run "$scenario" "$file" "")
-  off=$(run "$scenario" "$file" "$options")
-  label="$scenario${file:+ (1280x720)}"
+  on=$(run "$scenario" "$file" "" "$vertices")
+  off=$(run "$scenario" "$file" "$options" "$vertices")
+  label="$scenario${file:+ (1280x720)}${vertices:+, the head at $vertices vertices}"
   first=1
   for fap in $faps; do
     if [ $first = 1 ]; then

@@ -12,6 +12,7 @@
 #include "mapping/fap_solver.hpp"
 #include "mapping/hierarchy.hpp"
 #include "mapping/marker_model.hpp"
+#include "tests/support/hidden_dot_fit.hpp"
 #include "tests/support/model_projection.hpp"
 #include "tests/support/synthetic_face.hpp"
 
@@ -51,19 +52,13 @@ class LostLid : public ::testing::Test {
   // hidden; the lids lower to `left` and `right` IRISD over the first 10 frames and stay there.
   double worst_hidden_error(double left, double right) {
     FapSolver solver(profile);
-    const Hierarchy hierarchy = default_hierarchy();
-    double worst = 0;
-    for (int i = 0; i < 30; ++i) {
-      const double ramp = std::min(1.0, i / 9.0);
-      FitResult r = solver.fit(frame_of(ramp * left, ramp * right, i));
-      EXPECT_TRUE(r.ok);
-      EXPECT_NEAR(r.faps.get(20), ramp * right, 3.0) << "frame " << i << ": the seen lid";
-      apply_hierarchy(hierarchy, profile.fapu, r.faps);
-      EXPECT_TRUE(r.faps.has(19)) << "frame " << i;
-      if (i >= 10 && r.faps.has(19))
-        worst = std::max(worst, std::abs(r.faps.get(19) - ramp * left));
-    }
-    return worst;
+    auto ramp = [](int i) { return std::min(1.0, i / 9.0); };
+    return test::worst_hidden_error(
+        solver, profile.fapu, 30, 10, 19, 20,
+        [&](int i) { return frame_of(ramp(i) * left, ramp(i) * right, i); },
+        [&](int i) {
+          return std::map<int, double>{{19, ramp(i) * left}, {20, ramp(i) * right}};
+        });
   }
 
   test::SyntheticActor actor = test::make_actor();
