@@ -402,6 +402,8 @@ std::string describe_drive(const eval::LoopScenario& s) {
         s.head.yaw_deg, s.head.pitch_deg, s.head.roll_deg, s.head.period_s);
   else
     out += ", head still";
+  if (s.head_vertices > 0)
+    out += fmt::format(", the head generated at {} vertices", s.head_vertices);
   return out;
 }
 

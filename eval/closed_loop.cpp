@@ -15,6 +15,7 @@
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_io.hpp"
+#include "facecore/head_generator.hpp"
 #include "facecore/json_file.hpp"
 #include "mapping/marker_model.hpp"
 #include "mapping/take_mapper.hpp"
@@ -46,9 +47,9 @@ class CallbackSink : public render::FrameSink {
 
 LoopScenario parse_scenario(const json& j, const json& defaults, const std::string& where) {
   static const std::set<std::string> known = {
-      "name",        "title",        "drive",         "fps",        "seconds",
-      "seed",        "neutral_lead", "head_yaw",      "head_pitch", "head_roll",
-      "head_period", "aim",          "markerless_aim"};
+      "name",        "title",        "drive",          "fps",          "seconds",
+      "seed",        "neutral_lead", "head_yaw",       "head_pitch",   "head_roll",
+      "head_period", "aim",          "markerless_aim", "head_vertices"};
   if (!j.is_object()) throw InputError(where + ": a scenario should be an object");
   for (const auto& [key, value] : j.items())
     if (!known.count(key)) throw InputError(where + ": unknown key '" + key + "'");
@@ -91,6 +92,11 @@ LoopScenario parse_scenario(const json& j, const json& defaults, const std::stri
   if (!(s.aim > 0 && s.aim < 1)) throw InputError(at + ": 'aim' should be a share in (0, 1)");
   if (!(s.markerless_aim > 0 && s.markerless_aim < 1))
     throw InputError(at + ": 'markerless_aim' should be a share in (0, 1)");
+  const double vertices = num("head_vertices", 0);
+  if (vertices != 0 && !(vertices >= kMinHeadVertices && vertices <= 1e6))
+    throw InputError(at + ": 'head_vertices' should be 0 (the head given) or from " +
+                     std::to_string(kMinHeadVertices) + " to 1000000");
+  s.head_vertices = static_cast<int>(vertices);
   s.synth.seed = static_cast<unsigned>(num("seed", 1));
   if (defaults.contains("size")) {
     const json& size = defaults["size"];
@@ -199,9 +205,11 @@ std::filesystem::path shared_dir() {
 LoopDefinition load_closed_loop(const std::filesystem::path& path) {
   const json j = read_json_file(path, "the closed-loop file");
   LoopDefinition d;
-  d.scenarios = parse_scenario_list<LoopScenario>(
-      j, path, {"size", "seed", "fps", "neutral_lead", "calibration_seconds", "head_period"},
-      parse_scenario);
+  d.scenarios =
+      parse_scenario_list<LoopScenario>(j, path,
+                                        {"size", "seed", "fps", "neutral_lead",
+                                         "calibration_seconds", "head_period", "head_vertices"},
+                                        parse_scenario);
   d.description = j.value("description", "");
   return d;
 }
@@ -267,6 +275,11 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
                              const ExpressionLibrary* library, const TrackerFactory& make_tracker,
                              const LoopProgress& progress,
                              const mapping::SolverOptions& solver_options) {
+  // A scenario may name its own head: the generated one at that density.
+  const std::optional<FaceModel> generated =
+      s.head_vertices > 0 ? std::optional(generate_head(HeadOptions{s.head_vertices}))
+                          : std::nullopt;
+  const FaceModel& head = generated ? *generated : model;
   const FapStream drive = loop_drive(s);
   const double fps = drive.header.fps;
   const long total = static_cast<long>(drive.frames.size());
@@ -276,13 +289,13 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   SynthOptions o = s.synth;
   o.dot_diameter_mm = layout.dot_diameter_mm;
   o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
-  const auto markers = place_markers(model, layout);
+  const auto markers = place_markers(head, layout);
   std::vector<tracking::TrackedFrame> tracked;
   CallbackSink sink([&](const cv::Mat& bgr) {
     const auto i = static_cast<std::size_t>(tracked.size());
     tracked.push_back(tracker->track(bgr, drive.frames[i].index, static_cast<double>(i) / fps));
   });
-  const SynthResult truth = synthesize(model, library, markers, drive, o, sink, [&](long done) {
+  const SynthResult truth = synthesize(head, library, markers, drive, o, sink, [&](long done) {
     if (progress) progress(done, total);
   });
 
@@ -300,7 +313,7 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   if (s.truth_noise_px > 0) methods.push_back(LoopMethod::CeresOnNoisyTruth);
   // The head the clip shows is the one the fit models: on a head other than the default one
   // the loop measures the tracking, not how two heads' deformations differ.
-  const auto prior_head = std::make_shared<const FaceModel>(model);
+  const auto prior_head = std::make_shared<const FaceModel>(head);
   for (LoopMethod m : methods) {
     mapping::MapperOptions options;
     options.method = m == LoopMethod::Seed2d ? mapping::Method::Seed2d : mapping::Method::Ceres;

@@ -23,8 +23,10 @@
 // head_pitch, head_roll, head_period (eval::HeadSweeps, starting after the lead-in), aim (a
 // share: default 0.05 with a still head, 0.08 with head sweeps), markerless_aim (the aim when
 // the head is rendered bare and tracked by its landmarks: default 0.10 still, 0.15 with head
-// sweeps, issue 17's). Top-level keys size, seed, fps, neutral_lead, calibration_seconds,
-// head_period are defaults.
+// sweeps, issue 17's), head_vertices (render the head `rostro head --vertices N` generates
+// instead of the one given: the same head sampled elsewhere, a face no rule was tuned on; 0,
+// the default: the one given). Top-level keys size, seed, fps, neutral_lead,
+// calibration_seconds, head_period, head_vertices are defaults.
 
 #include <array>
 #include <filesystem>
@@ -56,6 +58,7 @@ struct LoopScenario {
   HeadSweeps head;                        // start_s is set to the lead-in
   double aim = 0.05;                      // RMS / range, every tracked FAP
   double markerless_aim = 0.10;           // the same for the bare head (`--markerless`)
+  int head_vertices = 0;                  // > 0: the generated head of about this many
   // > 0: a fourth mapping, the Ceres fit on the exact tracks with Gaussian noise of this
   // sigma (pixels, each coordinate, seeded by synth.seed) added: how precise a tracker's points
   // must be for the aim.

@@ -408,7 +408,7 @@ void paint_skin(FaceModel& m, const SkinShape& shape) {
 }  // namespace
 
 FaceModel generate_head(const HeadOptions& options) {
-  if (options.vertices < 1500)
+  if (options.vertices < kMinHeadVertices)
     throw InputError("head: --vertices must be at least 1500 (got " +
                      std::to_string(options.vertices) + ")");
   const double n = options.vertices;

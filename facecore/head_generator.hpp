@@ -8,8 +8,10 @@
 
 namespace rostro {
 
+inline constexpr int kMinHeadVertices = 1500;
+
 struct HeadOptions {
-  int vertices = 5000;  // approximate total vertex count (>= 1500)
+  int vertices = 5000;  // approximate total vertex count (>= kMinHeadVertices)
 };
 
 // Throws InputError when options.vertices is below the minimum.

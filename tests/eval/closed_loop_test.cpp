@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "eval/track_metrics.hpp"
+#include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/head_generator.hpp"
 #include "render/render_error.hpp"
@@ -119,6 +120,26 @@ TEST(ClosedLoopFile, AbsentSharedDriveIsSkippedNotAnError) {
   EXPECT_NE(d.scenarios[0].skip_reason.find((dir / "fixtures/none.fap").string()),
             std::string::npos)
       << d.scenarios[0].skip_reason;
+}
+
+// A scenario may render the head generated at another density; below the generator's least
+// count the file is refused, naming the scenario and the key.
+TEST(ClosedLoopFile, HeadVerticesNameAGeneratedHead) {
+  const auto file = temp_file(
+      "heads.json",
+      R"({"head_vertices": 20000, "scenarios": [{"name": "a"}, {"name": "b", "head_vertices": 0}]})");
+  const LoopDefinition d = load_closed_loop(file);
+  ASSERT_EQ(d.scenarios.size(), 2u);
+  EXPECT_EQ(d.scenarios[0].head_vertices, 20000);  // the file's default
+  EXPECT_EQ(d.scenarios[1].head_vertices, 0);      // the head given
+  const auto few =
+      temp_file("few.json", R"({"scenarios": [{"name": "a", "head_vertices": 1000}]})");
+  const std::string e = error_of([&] { load_closed_loop(few); });
+  EXPECT_NE(e.find("scenario 1 (a)"), std::string::npos) << e;
+  EXPECT_NE(e.find("'head_vertices'"), std::string::npos) << e;
+  // The heads file names heads of other densities.
+  const LoopDefinition heads = load_closed_loop(data_file("eval/closed_loop_heads.json"));
+  for (const LoopScenario& s : heads.scenarios) EXPECT_GT(s.head_vertices, 0) << s.name;
 }
 
 TEST(HeadSweeps, WrittenIntoFaps48To50AfterTheLeadIn) {
