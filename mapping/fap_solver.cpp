@@ -106,7 +106,6 @@ struct FapSolver::Impl {
   // The pose prior's targets (the previous pose plus the smoothed velocity) and gains (0 on a
   // cold start).
   std::vector<double> pose_target, pose_gain;
-  std::vector<std::vector<std::size_t>> markers_of_fap;  // fitted FAP -> markers moving it
   // Fitted FAP -> the markers that measure it: those it moves at least kMeasuringShare as far as
   // the marker it moves most (its own feature point's).
   std::vector<std::vector<std::size_t>> measured_by;
@@ -173,7 +172,6 @@ struct FapSolver::Impl {
       const auto floor = o.lower_bounds.find(id);
       bound.push_back(floor == o.lower_bounds.end() ? 0.0 : std::min(0.0, floor->second));
     }
-    markers_of_fap.resize(fap_count());
     for (const auto& rule : o.hold_while_hidden) {
       std::vector<std::size_t> on_point, held;
       for (std::size_t i = 0; i < model.markers.size(); ++i)
@@ -202,7 +200,6 @@ struct FapSolver::Impl {
       const ModelMarker& m = model.markers[i];
       for (const FapStep& s : m.faps) {
         const auto slot = static_cast<std::size_t>(fap_slot[static_cast<std::size_t>(s.fap)]);
-        markers_of_fap[slot].push_back(i);
         px_per_unit[slot] = std::max(px_per_unit[slot], s.step.norm() * cam.fx / depth);
       }
       costs.emplace_back(new MarkerResidual(&observations[i], m, fap_slot, &k, n));
