@@ -195,7 +195,7 @@ std::vector<Scenario> chosen_scenarios(const std::vector<Scenario>& all, const s
 // a face model JSON), its expressions, a layout.
 struct Scene {
   Scene(const std::string& layout_path, const std::string& head_path)
-      : model(head_path.empty() ? load_default_face_model() : load_face_model(head_path)),
+      : model(load_face_model_or_default(head_path)),
         library(ExpressionLibrary::load_default()),
         layout(tracking::load_layout(layout_path.empty() ? tracking::default_layout_path()
                                                          : std::filesystem::path(layout_path))) {}
@@ -350,7 +350,7 @@ struct HeadArgs {
 
 void eval_head(const HeadArgs& a) {
   require_extension(a.markdown, ".md", "--markdown");
-  const FaceModel model = a.head.empty() ? load_default_face_model() : load_face_model(a.head);
+  const FaceModel model = load_face_model_or_default(a.head);
   const ExpressionLibrary library = ExpressionLibrary::load_default();
   eval::HeadCheckOptions options;
   options.landmark_model = a.landmark_model;

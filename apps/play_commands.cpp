@@ -94,7 +94,7 @@ ExpressionLibrary load_library(const ViewOptions& view) {
 }
 
 FaceModel load_model(const ViewOptions& view) {
-  return view.head.empty() ? load_default_face_model() : load_face_model(view.head);
+  return load_face_model_or_default(view.head);
 }
 
 render::RenderOptions render_options(const ViewOptions& view) {
@@ -419,8 +419,9 @@ void add_play_commands(CLI::App& app) {
       ->capture_default_str();
   pose_cmd->add_option("--viseme", pose_options.viseme,
                        "add a viseme (0..14 or a name: p_b_m, aa, ...)");
-  pose_cmd->add_flag("--sheet", pose_options.sheet,
-                     "a contact sheet: neutral, the six expressions, visemes, a 3/4 view, a profile");
+  pose_cmd->add_flag(
+      "--sheet", pose_options.sheet,
+      "a contact sheet: neutral, the six expressions, visemes, a 3/4 view, a profile");
   add_view_options(pose_cmd, pose_options.view);
   pose_cmd->footer(
       "Example:\n"

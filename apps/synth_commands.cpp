@@ -54,8 +54,7 @@ void synth(SynthArgs a) {
   eval::add_head_sweeps(drive, a.head);
   drive.header.frame_count = static_cast<long>(drive.frames.size());
 
-  const FaceModel model =
-      a.face_model.empty() ? load_default_face_model() : load_face_model(a.face_model);
+  const FaceModel model = load_face_model_or_default(a.face_model);
   const ExpressionLibrary library = ExpressionLibrary::load_default();
   if (a.no_markers && !a.layout.empty())
     throw CLI::ValidationError("--no-markers", "renders no layout; leave out --layout");

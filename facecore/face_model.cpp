@@ -290,6 +290,10 @@ FaceModel load_default_face_model() {
   return load_face_model(data_file("head/head.json"));
 }
 
+FaceModel load_face_model_or_default(const std::filesystem::path& description) {
+  return description.empty() ? load_default_face_model() : load_face_model(description);
+}
+
 void save_face_model(const FaceModel& model, const std::filesystem::path& dir,
                      const std::string& stem) {
   std::filesystem::create_directories(dir);

@@ -96,6 +96,10 @@ FaceModel load_face_model(const std::filesystem::path& description);
 // The default head, data/head/head.json.
 FaceModel load_default_face_model();
 
+// The face model `description` names, or the default head when it is empty: a command's
+// optional --head.
+FaceModel load_face_model_or_default(const std::filesystem::path& description);
+
 // Writes `<dir>/<stem>.obj` (vertex colours as `v x y z r g b`) and `<dir>/<stem>.json`
 // atomically.
 void save_face_model(const FaceModel& model, const std::filesystem::path& dir,
