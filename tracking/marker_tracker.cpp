@@ -636,17 +636,9 @@ struct MarkerTracker::Impl {
     if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
       return LostReason::Contrast;
     if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
-    if (followed && partly_covered(i, d)) return LostReason::Clipped;
     if (!(d.diameter <= (at_eye(i) && !followed ? largest_found(i) : 2.0 * reference_diameter[i])))
       return LostReason::Growth;
     return LostReason::None;
-  }
-  // TrackerOptions::partly_covered_size and partly_covered_elongation: followed dot i, measured
-  // as d, smaller than it has been and at once longer than it was in the last frame. A dot
-  // turning away from the camera shrinks and lengthens too, but by a little each frame.
-  bool partly_covered(size_t i, const Dot& d) const {
-    return d.diameter < options.partly_covered_size * recent_diameter[i] &&
-           d.elongation > options.partly_covered_elongation * recent_elongation[i];
   }
   // At the eye a blob found where a lost dot was may be the dot merged with something dark
   // beside it: the pupil beside a lid dot as the lid closes, the other lid's dot in a blink.
@@ -1554,8 +1546,6 @@ void TrackerOptions::validate() const {
       .positive("max_fb_error", max_fb_error)
       .positive("max_snap", max_snap)
       .not_negative("min_contrast_ratio", min_contrast_ratio)
-      .not_negative("partly_covered_size", partly_covered_size)
-      .not_negative("partly_covered_elongation", partly_covered_elongation)
       .not_negative("tag_margin", tag_margin)
       .not_negative("tag_decimate_above_px", tag_decimate_above_px)
       .positive("tag_redetect_every", tag_redetect_every)
@@ -1600,8 +1590,6 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, align_tags),
       ROSTRO_NAMED_OPTION(O, search_fraction),
       ROSTRO_NAMED_OPTION(O, found_look_allowance),
-      ROSTRO_NAMED_OPTION(O, partly_covered_size),
-      ROSTRO_NAMED_OPTION(O, partly_covered_elongation),
       ROSTRO_NAMED_OPTION(O, eyes.max_eye_snap),
       ROSTRO_NAMED_OPTION(O, eyes.lid_sideways_fraction),
       ROSTRO_NAMED_OPTION(O, eyes.lid_overshoot_fraction),
@@ -1665,8 +1653,6 @@ const char* to_string(LostReason r) {
       return "contrast";
     case LostReason::Shrunk:
       return "shrunk";
-    case LostReason::Clipped:
-      return "clipped";
     case LostReason::Growth:
       return "growth";
     case LostReason::Jump:

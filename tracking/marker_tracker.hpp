@@ -99,14 +99,6 @@ struct TrackerOptions {
   // cheek is not found on the eye's corner or a lip corner beside it, a lid dot against its
   // lashes still on itself. Negative: any blob that passes the dot checks.
   double found_look_allowance = 0.2;
-  // A followed dot measured smaller than partly_covered_size of its size over its last frames,
-  // and at once longer (long over short axis) than partly_covered_elongation times its last
-  // elongation, is taken as partly covered (a hand's edge over it) and dropped: its centre is
-  // the visible part's, up to a third of its width off. Size alone also took dots turning away
-  // fast (the lower lip as the jaw drops), and a smaller lengthening the noise of a 6 px dot.
-  // partly_covered_size 0: no such test.
-  double partly_covered_size = 0.9;
-  double partly_covered_elongation = 1.3;
   // A dot not seen when tracking started is looked for where its neighbours put the
   // identification's guess at its start place; once found (on re-acquisition, or named by the
   // second look) it takes as its start place where its neighbours' motion since the start puts
@@ -176,7 +168,6 @@ enum class LostReason {
   LidSurround,    // a lid dot's ring darker than max_lid_surround
   Contrast,       // below min_contrast_ratio of its contrast at the start
   Shrunk,         // under half its size at the start
-  Clipped,        // partly covered: smaller and longer at once (partly_covered_size, _elongation)
   Growth,         // over twice its start size; an eye dot found again, past max_dot_growth_found
   Jump,           // moved unlike its neighbours (max_relative_motion, max_relative_motion_px)
   Coincident,     // on the spot of another dot (both are dropped)

@@ -146,49 +146,6 @@ TEST(Tracker, OcclusionsAreFlaggedAndMarkersComeBack) {
   EXPECT_LE(percentile(st.errors, 0.5), 0.2);
 }
 
-// A hand's edge sliding over a dot, 1.5 px a frame: while it covers part of the dot, the blob
-// is the visible part and its centre is off toward the uncovered side. The dot is dropped once
-// it measures smaller and longer than it has looked (TrackerOptions::partly_covered_size and
-// partly_covered_elongation), or reported within 1 px; with the rule off, farther off.
-TEST(Tracker, ADotPartlyUnderAHandsEdgeIsDroppedNotReportedOff) {
-  const MarkerLayout layout = default_layout();
-  SceneOptions o;
-  std::vector<cv::Point2d> at;  // cheek_l's truth per frame, without the hand
-  for (int k = 0; k < 30; ++k) {
-    std::map<std::string, Truth> truth;
-    SyntheticScene(layout, o).render(k, truth);
-    at.push_back(truth.at("cheek_l").position);
-  }
-  const double r = o.dot_diameter_px / 2;
-  for (int k = 12; k < 30; ++k) {
-    const double edge = at[k].x - r - 2 + 1.5 * (k - 12);  // the hand's right edge
-    o.occluders.push_back({{edge - 40, at[k].y - 15, 40, 30}, k, k});
-  }
-  const auto worst_partly_covered = [&](const TrackerOptions& options, int& partly_covered) {
-    SyntheticScene scene(layout, o);
-    MarkerTracker tracker(layout, options);
-    double worst = 0;
-    partly_covered = 0;
-    for (int k = 0; k < 30; ++k) {
-      std::map<std::string, Truth> truth;
-      const TrackedFrame tf = tracker.track(scene.render(k, truth), k, k / 30.0);
-      const Truth& t = truth.at("cheek_l");
-      if (t.visible || t.hidden) continue;
-      ++partly_covered;
-      for (const MarkerObservation& m : tf.markers)
-        if (m.marker == "cheek_l" && m.valid)
-          worst = std::max(worst, cv::norm(m.position - t.position));
-    }
-    return worst;
-  };
-  int partly_covered = 0;
-  EXPECT_LE(worst_partly_covered(options_for(o), partly_covered), 1.0);
-  EXPECT_GE(partly_covered, 4);
-  TrackerOptions rule_off = options_for(o);
-  rule_off.partly_covered_size = 0;
-  EXPECT_GT(worst_partly_covered(rule_off, partly_covered), 1.0);
-}
-
 // A hand over a headband tag: the tag is dropped while hidden (its pattern no longer fits where
 // LK puts its corners, and it is not detected there), never reported off its place while partly
 // covered, and back within 3 frames of coming out. The tags' places come from a first run.
