@@ -186,6 +186,11 @@ TEST_F(WindowOnXvfb, PlayShowsTheHeadOnTheAudioClockAndItsKeysWork) {
                   out, err);
   const std::string window = x.find_window("rostro play", seconds(60));
   ASSERT_FALSE(window.empty()) << read_text(err);
+  const std::regex frame_number("frame (\\d+)/");
+  const std::string playing = x.wait_for_title(
+      window, [&](const std::string& t) { return std::regex_search(t, frame_number); },
+      seconds(30));
+  ASSERT_TRUE(std::regex_search(playing, frame_number)) << playing;
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   const fs::path png = dir / "play-window.png";
   ASSERT_TRUE(x.screenshot(png));
@@ -195,20 +200,21 @@ TEST_F(WindowOnXvfb, PlayShowsTheHeadOnTheAudioClockAndItsKeysWork) {
   EXPECT_GT(drawn_share(screen(cv::Rect(0, 0, 640, 480))), 0.15) << png;
   EXPECT_NE(read_text(err).find("sound through dummy"), std::string::npos) << read_text(err);
 
-  // Space pauses: the title's clock stands still.
+  // Space pauses: the title says so, and its clock stands still.
   x.key(window, "space");
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  const std::string title = shell(x.env() + "xdotool getwindowname " + window);
+  const std::string title = x.wait_for_title(
+      window, [](const std::string& t) { return t.find("(paused)") != std::string::npos; },
+      seconds(10));
   EXPECT_NE(title.find("(paused)"), std::string::npos) << title;
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  EXPECT_EQ(shell(x.env() + "xdotool getwindowname " + window), title);
+  EXPECT_EQ(x.title(window), title);
   // Right seeks 5 s on (from paused, the clock jumps by exactly that).
   x.key(window, "Right");
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const std::string seeked = x.wait_for_title(
+      window, [&](const std::string& t) { return t != title; }, seconds(10));
   std::smatch before, after;
-  const std::string seeked = shell(x.env() + "xdotool getwindowname " + window);
-  ASSERT_TRUE(std::regex_search(title, before, std::regex("frame (\\d+)/"))) << title;
-  ASSERT_TRUE(std::regex_search(seeked, after, std::regex("frame (\\d+)/"))) << seeked;
+  ASSERT_TRUE(std::regex_search(title, before, frame_number)) << title;
+  ASSERT_TRUE(std::regex_search(seeked, after, frame_number)) << seeked;
   EXPECT_NEAR(static_cast<double>(std::stol(after[1]) - std::stol(before[1])), 125, 1)
       << title << " / " << seeked;
   x.key(window, "q");

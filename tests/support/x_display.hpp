@@ -166,6 +166,23 @@ class XDisplay {
   void key(const std::string& window, const std::string& key) const {
     shell(env() + "xdotool windowfocus --sync " + window + " key " + key);
   }
+  // The title of `window` as it is now.
+  std::string title(const std::string& window) const {
+    return shell(env() + "xdotool getwindowname " + window);
+  }
+  // The title of `window` once `accept` takes it, or the last one read after `timeout`: a
+  // key's effect shows on the next frame drawn, later on a loaded machine.
+  template <class Accept>
+  std::string wait_for_title(const std::string& window, Accept accept,
+                             std::chrono::seconds timeout) const {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    std::string now = title(window);
+    while (!accept(now) && std::chrono::steady_clock::now() < end) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      now = title(window);
+    }
+    return now;
+  }
   // Writes the whole screen to a PNG; false if xwd or convert failed.
   bool screenshot(const std::filesystem::path& png) const {
     int code = 0;
