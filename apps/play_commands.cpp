@@ -298,7 +298,8 @@ FapFrame pose_frame(const PoseOptions& o) {
 
 // Neutral, the six expressions, visemes that shape the mouth in different ways, a
 // three-quarter view and a profile: a page that shows at a glance what the head can do.
-cv::Mat make_sheet(render::FaceRenderer& face, const render::CameraPose& pose) {
+cv::Mat make_sheet(const FaceModel& model, render::FaceRenderer& face,
+                   const render::CameraPose& pose) {
   std::vector<render::SheetTile> tiles;
   Progress progress("contact sheet", 16);
   tiles.push_back({face.render(FapFrame{}, pose), "neutral"});
@@ -329,10 +330,14 @@ cv::Mat make_sheet(render::FaceRenderer& face, const render::CameraPose& pose) {
   e.intensity1 = 63;
   joy.set_expression(e);
   tiles.push_back({face.render(joy, render::CameraPose::three_quarter()), "joy, 3/4 view"});
-  render::CameraPose profile;  // framed on the front view's box, so wider for the head's depth
+  // The profile takes in the neck and the top of the shoulders.
+  const render::Bounds portrait = face.framing();
+  face.set_framing(render::portrait_bounds(model, face.renderer().mesh_bounds(), 0.6f));
+  render::CameraPose profile;
   profile.yaw_deg = 90;
-  profile.margin = 1.5;
+  profile.margin = 1.2;
   tiles.push_back({face.render(FapFrame{}, profile), "neutral, profile"});
+  face.set_framing(portrait);
   progress.finish();
   return render::contact_sheet(tiles, 4);
 }
@@ -347,7 +352,7 @@ void pose_command(const PoseOptions& o) {
   const FaceModel model = load_model(o.view);
   const ExpressionLibrary library = load_library(o.view);
   render::FaceRenderer face(model, &library, options);
-  const cv::Mat image = o.sheet ? make_sheet(face, pose) : face.render(frame, pose);
+  const cv::Mat image = o.sheet ? make_sheet(model, face, pose) : face.render(frame, pose);
   render::write_image(o.output, image);
   std::printf("%s: %dx%d\n", o.output.c_str(), image.cols, image.rows);
 }

@@ -56,6 +56,14 @@ struct Turn {
   Eigen::Matrix3f rotation() const {
     return (Eigen::Matrix3f() << r00, r01, r02, r10, r11, r12, r20, r21, r22).finished();
   }
+  // The turn blended with staying put, p -> w (r p + t) + (1 - w) p: a neck vertex between the
+  // turning head (w = 1) and the shoulders (w = 0). At w = 0.5 the blend shortens what lies
+  // across the turn's axis by 1 - cos(angle / 2): 3 % for a 30-degree turn.
+  Turn share(float w) const {
+    const float s = 1.0f - w;
+    return {w * r00 + s, w * r01, w * r02,     w * r10, w * r11 + s, w * r12,
+            w * r20,     w * r21, w * r22 + s, w * t0,  w * t1,      w * t2};
+  }
   Eigen::Matrix<float, 12, 1> values() const {
     return (Eigen::Matrix<float, 12, 1>() << r00, r01, r02, r10, r11, r12, r20, r21, r22, t0, t1,
             t2)
@@ -274,20 +282,27 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
   for (const RigidPart* eye : {&model.parts.left_eyeball, &model.parts.right_eyeball})
     for (int v : eye->vertices) moved_after[static_cast<std::size_t>(v)] = true;
 
+  std::vector<float> turn_share(static_cast<std::size_t>(n_vertices), 1.0f);
+  for (std::size_t i = 0; i < model.turn_weights.vertices.size(); ++i)
+    turn_share[static_cast<std::size_t>(model.turn_weights.vertices[i])] =
+        static_cast<float>(model.turn_weights.weights[i]);
+
   // Runs of consecutive vertices weighted on the same channels (in a region, all of them),
-  // cut at kRunMax vertices so that threads share them evenly, and where stillness changes.
+  // cut at kRunMax vertices so that threads share them evenly, and where stillness or the
+  // share of the head's turn changes.
   const int* channels_of = vertex_weights.innerIndexPtr();
   for (Eigen::Index v = 0; v < n_vertices; ++v) {
     const int first = vertex_weights.outerIndexPtr()[v],
               last = vertex_weights.outerIndexPtr()[v + 1];
     const int u = static_cast<int>(v);
     const bool still = first == last && !moved_after[static_cast<std::size_t>(v)];
+    const float share = turn_share[static_cast<std::size_t>(v)];
     if (runs_.empty() || runs_.back().count != last - first || runs_.back().still != still ||
-        runs_.back().end - runs_.back().begin >= kRunMax ||
+        runs_.back().turn_share != share || runs_.back().end - runs_.back().begin >= kRunMax ||
         !std::equal(channels_of + first, channels_of + last,
                     run_channels_.begin() + runs_.back().channels)) {
       runs_.push_back({u, u, last - first, static_cast<int>(run_weights_.size()),
-                       static_cast<int>(run_channels_.size()), still});
+                       static_cast<int>(run_channels_.size()), still, share});
       run_channels_.insert(run_channels_.end(), channels_of + first, channels_of + last);
     }
     ++runs_.back().end;
@@ -353,8 +368,8 @@ void Deformer::deform_low_level(const Eigen::VectorXd& faps, bool keep_still,
                                 std::vector<Eigen::Vector3f>& out) const {
   const auto n = static_cast<long>(neutral_.cols());
   out.resize(static_cast<std::size_t>(n));
-  const Turn turn = head_turn(faps, model_.head_pivot);
-  const Eigen::Matrix3f r = turn.rotation();
+  const Turn head = head_turn(faps, model_.head_pivot);
+  const Eigen::Matrix3f r = head.rotation();
   const Eigen::Vector3f pivot = model_.head_pivot.cast<float>();
 
   // Displacement of every channel's feature point (a column each).
@@ -375,6 +390,7 @@ void Deformer::deform_low_level(const Eigen::VectorXd& faps, bool keep_still,
     for (long i = 0; i < n_runs; ++i) {
       const VertexRun& run = runs_[static_cast<std::size_t>(i)];
       if (keep_still && run.still) continue;
+      const Turn turn = run.turn_share == 1.0f ? head : head.share(run.turn_share);
       const float* w = run_weights_.data() + run.weights;
       const int* c = run_channels_.data() + run.channels;
       switch (run.count) {

@@ -2,7 +2,8 @@
 // Deforms a face model by a frame of FAPs. Everything linear in the FAP values (regions,
 // jaw-following parts, pupil dilation, eyeball thrust, tongue roll) is compiled once per
 // model; a frame is then a weighted sum per vertex plus the rotations of the eyeballs (FAPs
-// 23-26, about their pivots) and of the head (FAPs 48-50, about 7.1).
+// 23-26, about their pivots) and of the head (FAPs 48-50, about 7.1), which a neck's vertices
+// follow by their share (the model's turn_weights).
 //
 // A frame walks runs of consecutive vertices weighted on the same feature points: the runs of
 // none are placed rigidly (their neutral position turned with the head, about half of the
@@ -94,6 +95,7 @@ class Deformer {
   struct VertexRun {
     int begin, end, count, weights, channels;
     bool still;
+    float turn_share;  // of the head's turn (the model's turn_weights; 1 for the head)
   };
   std::vector<VertexRun> runs_;
   std::vector<float> run_weights_;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -123,6 +124,20 @@ class DescriptionReader {
     return r;
   }
 
+  TurnWeights turn_weights(const json& j) const {
+    TurnWeights t;
+    if (!j.is_object()) fail("'turn_weights' must be an object with vertices and weights");
+    if (!j.contains("vertices") || !j.contains("weights"))
+      fail("'turn_weights' needs both 'vertices' and 'weights'");
+    t.vertices = indices(j["vertices"], "turn_weights vertices");
+    if (!j["weights"].is_array()) fail("turn_weights: weights must be an array of numbers");
+    for (const json& w : j["weights"]) {
+      if (!w.is_number()) fail("turn_weights: weights must be numbers");
+      t.weights.push_back(w.get<double>());
+    }
+    return t;
+  }
+
   RigidPart part(const json& j, const std::string& name) const {
     RigidPart p;
     const std::string ctx = "rigid part '" + name + "'";
@@ -220,6 +235,13 @@ void FaceModel::validate(const std::string& source) const {
   for (const PartSlot& slot : kParts)
     for (int v : (parts.*slot.member).vertices)
       check_index(v, std::string("rigid part ") + slot.name);
+  for (int v : turn_weights.vertices) check_index(v, "turn_weights");
+  if (turn_weights.weights.size() != turn_weights.vertices.size())
+    reader.fail(fmt::format("turn_weights: {} weights for {} vertices", turn_weights.weights.size(),
+                            turn_weights.vertices.size()));
+  for (double w : turn_weights.weights)
+    if (!(w >= 0.0 && w <= 1.0))
+      reader.fail(fmt::format("turn_weights: a weight is {}, not a share from 0 to 1", w));
 }
 
 FaceModel load_face_model(const std::filesystem::path& description) {
@@ -273,6 +295,7 @@ FaceModel load_face_model(const std::filesystem::path& description) {
       if (!known) reader.fail("unknown rigid part '" + key + "'");
     }
   }
+  if (j.contains("turn_weights")) model.turn_weights = reader.turn_weights(j["turn_weights"]);
   model.validate(source);
   if (j.contains("head_pivot"))
     model.head_pivot = reader.vec3(j["head_pivot"], "head_pivot");
@@ -341,6 +364,11 @@ void save_face_model(const FaceModel& model, const std::filesystem::path& dir,
   for (const PartSlot& slot : kParts)
     if (!(model.parts.*slot.member).empty()) parts[slot.name] = part_json(model.parts.*slot.member);
   j["rigid_parts"] = parts;
+  if (!model.turn_weights.empty()) {
+    json w = json::array();
+    for (double x : model.turn_weights.weights) w.push_back(std::round(x * 1000.0) / 1000.0);
+    j["turn_weights"] = {{"vertices", indices_json(model.turn_weights.vertices)}, {"weights", w}};
+  }
 
   AtomicFile file(dir / (stem + ".json"));
   file.write(j.dump(1));

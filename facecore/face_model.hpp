@@ -60,6 +60,15 @@ struct RigidParts {
   RigidPart jaw;     // vertices that follow the jaw rigidly (mouth floor)
 };
 
+// Vertices that follow the head's turn (FAPs 48-50) only in part: a neck that twists and bends
+// between the head and shoulders that stay where they are. A vertex not listed follows the
+// turn whole.
+struct TurnWeights {
+  std::vector<int> vertices;
+  std::vector<double> weights;  // parallel to `vertices`: the share of the turn, 0..1
+  bool empty() const { return vertices.empty(); }
+};
+
 struct FaceModel {
   std::string name;
   std::vector<Eigen::Vector3f> positions;  // neutral mesh, model units (mm)
@@ -76,6 +85,7 @@ struct FaceModel {
   std::map<FeaturePointId, int> feature_points;  // feature point -> vertex
   std::vector<InfluenceRegion> regions;
   RigidParts parts;
+  TurnWeights turn_weights;
   Eigen::Vector3d head_pivot = Eigen::Vector3d::Zero();  // 7.1: head rotation (FAPs 48-50)
   Fapu fapu;  // computed from the feature points of the neutral mesh
 

@@ -33,6 +33,12 @@ constexpr double kMouthY = -32.0, kMouthHW = 23.5;    // mouth line, inner corne
 constexpr double kMouthOpen = 0.3;                    // neutral lips nearly touch: a dark line
 constexpr double kOuterCornerX = 25.5;
 constexpr double kCapY = 60.0, kCrownY = 122.0, kNeckY = -150.0;
+// Below the neck's foot the skin goes on into the shoulders, down to kFootY: 416 texels of the
+// skin's texture below kNeckY, so that the face's texels lie where they would without them.
+constexpr double kFootY = kNeckY - 416 * (kCrownY - kNeckY) / 1024;
+// The head turns (FAPs 48-50) whole above kTurnTopY; the neck below twists less and less, and
+// the shoulders below kTurnFootY stay.
+constexpr double kTurnTopY = -95.0, kTurnFootY = -185.0;
 constexpr double kEarY = 19.0;  // the ears' centre height
 
 double clamp01(double t) {
@@ -65,16 +71,20 @@ double curve(const std::vector<std::pair<double, double>>& k, double y) {
                 (-p0 + 3 * p1 - 3 * p2 + p3) * t * t * t);
 }
 
-// Cross-section of the head at height y: half width, front and back extent, centre z.
+// Cross-section of the head at height y: half width, front and back extent, centre z. Below the
+// neck's foot (-150) it flares into the shoulders and the top of the chest.
 const std::vector<std::pair<double, double>> kHalfWidth = {
-    {-150, 52}, {-100, 50}, {-86, 50}, {-75, 46}, {-60, 56},
-    {-40, 64},  {-20, 70},  {0, 73},   {30, 76},  {60, 75}};
-const std::vector<std::pair<double, double>> kFront = {{-150, 52}, {-100, 50}, {-90, 58}, {-80, 74},
-                                                       {-70, 86},  {-55, 91},  {-40, 93}, {-20, 95},
-                                                       {0, 96},    {30, 93},   {60, 90}};
-const std::vector<std::pair<double, double>> kBack = {{-150, 70}, {-100, 68}, {-80, 72},
-                                                      {-60, 82},  {-40, 90},  {-20, 95},
-                                                      {0, 98},    {30, 100},  {60, 98}};
+    {kFootY, 200}, {-240, 204}, {-222, 194}, {-205, 162}, {-190, 114}, {-176, 74},
+    {-163, 59},    {-150, 52},  {-100, 50},  {-86, 50},   {-75, 46},   {-60, 56},
+    {-40, 64},     {-20, 70},   {0, 73},     {30, 76},    {60, 75}};
+const std::vector<std::pair<double, double>> kFront = {
+    {kFootY, 100}, {-240, 98}, {-220, 92}, {-200, 80}, {-182, 65}, {-165, 56},
+    {-150, 52},    {-100, 50}, {-90, 58},  {-80, 74},  {-70, 86},  {-55, 91},
+    {-40, 93},     {-20, 95},  {0, 96},    {30, 93},   {60, 90}};
+const std::vector<std::pair<double, double>> kBack = {
+    {kFootY, 95}, {-240, 95}, {-220, 93}, {-200, 88}, {-182, 81},
+    {-165, 74},   {-150, 70}, {-100, 68}, {-80, 72},  {-60, 82},
+    {-40, 90},    {-20, 95},  {0, 98},    {30, 100},  {60, 98}};
 const std::vector<std::pair<double, double>> kCentreZ = {
     {-150, -22}, {-100, -20}, {-80, -8}, {-60, 0}, {60, 0}};
 
@@ -173,18 +183,18 @@ struct SkinShape {
 };
 
 constexpr float kUntextured = std::numeric_limits<float>::quiet_NaN();
-// The skin's texture: u around the head from the back (phi = -pi), v up from the neck's foot to
-// the crown, by the row a vertex was made on (a slit's two copies share theirs, so the lid and
-// lip margins are lines in the texture). 2048 x 1024 texels: about 0.25 mm each.
-constexpr int kTextureWidth = 2048, kTextureHeight = 1024;
+// The skin's texture: u around the head from the back (phi = -pi), v up from the shoulders'
+// foot to the crown, by the row a vertex was made on (a slit's two copies share theirs, so the
+// lid and lip margins are lines in the texture). 2048 x 1440 texels: about 0.25 mm each.
+constexpr int kTextureWidth = 2048, kTextureHeight = 1440;
 Eigen::Vector2f skin_texcoord(double phi, double row_y) {
   return {static_cast<float>((phi + kPi) / (2 * kPi)),
-          static_cast<float>((row_y - kNeckY) / (kCrownY - kNeckY))};
+          static_cast<float>((row_y - kFootY) / (kCrownY - kFootY))};
 }
 // The inverse: the angle (in -pi..pi) and row height a texture point lies at.
 std::pair<double, double> skin_place(const Eigen::Vector2d& uv) {
   const double phi = (uv.x() - std::floor(uv.x())) * 2 * kPi - kPi;
-  return {phi, kNeckY + uv.y() * (kCrownY - kNeckY)};
+  return {phi, kFootY + uv.y() * (kCrownY - kFootY)};
 }
 
 // Mesh under construction, with a tag per vertex saying which side of a slit it lies on.
@@ -217,6 +227,7 @@ const Eigen::Vector3f kInnerLipColour(0.45f, 0.15f, 0.15f);
 const Eigen::Vector3f kBrowColour(0.24f, 0.15f, 0.09f);
 const Eigen::Vector3f kHairColour(0.20f, 0.13f, 0.08f);
 const Eigen::Vector3f kLashColour(0.10f, 0.07f, 0.05f);
+const Eigen::Vector3f kShirtColour(0.19f, 0.25f, 0.34f);
 
 Eigen::Vector3f mix(const Eigen::Vector3f& a, const Eigen::Vector3f& b, double t) {
   return a + static_cast<float>(clamp01(t)) * (b - a);
@@ -269,6 +280,14 @@ Eigen::Vector3f skin_colour(const V3& p, double phi, double shape_y) {
                                     std::sin(2 * kPi * phi * 23.0);
   c = mix(c, kHairColour * static_cast<float>(strands),
           smoothstep(-1.5, 1.5, shape_y - hairline(phi)));
+  // A crew-neck shirt over the shoulders: its collar a ribbed band, lower at the front.
+  const double neckline = -176.0 - 8.0 * std::cos(phi);
+  if (shape_y < neckline + 2) {
+    const double collar = smoothstep(neckline - 6.5, neckline - 5.5, shape_y);
+    const double rib = 0.93 + 0.07 * std::sin(2 * kPi * phi * 90.0);
+    const Eigen::Vector3f shirt = mix(kShirtColour, kShirtColour * static_cast<float>(rib), collar);
+    c = mix(c, shirt, smoothstep(neckline + 0.5, neckline - 0.5, shape_y));
+  }
   return c;
 }
 
@@ -740,6 +759,53 @@ FaceModel generate_head(const HeadOptions& options) {
   m.parts.tongue.pivot = tongue_c;
   m.parts.tongue.jaw_gain = 0.8;
 
+  // --- Shoulders: below the neck's foot (the skin grid's last row) the skin goes on into the
+  // shoulders and the top of the chest, on every other column (they are seen from afar), its
+  // rows at equal steps along the shoulder's slope. No region moves them.
+  std::vector<int> shoulders;
+  {
+    const int shoulder_rows = std::clamp(skin.rows / 6, 8, 40);
+    constexpr int kSamples = 2000;
+    const double dy = (kNeckY - kFootY) / kSamples;
+    std::vector<double> along(kSamples + 1, 0.0);  // the side's outline's length from the foot
+    for (std::size_t i = 1; i <= kSamples; ++i) {
+      const double y = kNeckY - static_cast<double>(i) * dy;
+      along[i] = along[i - 1] + std::hypot(dy, curve(kHalfWidth, y) - curve(kHalfWidth, y + dy));
+    }
+    std::vector<int> above;  // the row above, column by column
+    for (int c = 0; c < cols; ++c) above.push_back(at(skin.rows - 1, c, false));
+    for (int r = 1; r <= shoulder_rows; ++r) {
+      const auto i =
+          std::lower_bound(along.begin(), along.end(), along.back() * r / shoulder_rows) -
+          along.begin();
+      const double y = kNeckY - static_cast<double>(i) * dy;
+      std::vector<int> row;
+      for (int c = 0; c < cols; c += 2) {
+        const double phi = phi_of(c);
+        const V3 p = shape.surface(y, phi, 1.0, y);
+        const int v = b.add(p, skin_colour(p, phi, y));
+        b.m.texcoords[static_cast<std::size_t>(v)] = skin_texcoord(phi, y);
+        row.push_back(v);
+        shoulders.push_back(v);
+      }
+      const auto width = static_cast<int>(row.size());
+      auto low = [&](int k) { return row[static_cast<std::size_t>((k + width) % width)]; };
+      if (above.size() == row.size()) {
+        for (int k = 0; k < width; ++k)
+          b.quad(above[static_cast<std::size_t>(k)], low(k), low(k + 1),
+                 above[static_cast<std::size_t>((k + 1) % width)], kSkin);
+      } else {  // the neck's foot: two columns above each one below
+        auto high = [&](int c) { return above[static_cast<std::size_t>((c + cols) % cols)]; };
+        for (int k = 0; k < width; ++k) {
+          b.tri(high(2 * k), low(k), high(2 * k + 1), kSkin);
+          b.tri(high(2 * k + 1), low(k), low(k + 1), kSkin);
+          b.tri(high(2 * k + 1), low(k + 1), high(2 * k + 2), kSkin);
+        }
+      }
+      above = row;
+    }
+  }
+
   // --- Head rotation centre (7.1): top of the spine, an isolated vertex.
   const int spine = b.add(V3(0, -35, -25), kSkinColour);
   m.head_pivot = V3(0, -35, -25);
@@ -1094,6 +1160,15 @@ FaceModel generate_head(const HeadOptions& options) {
     regions.push_back(t);
   }
   m.regions = std::move(regions);
+  // The neck twists between the turning head and the shoulders, which stay.
+  std::vector<int> neck = shoulders;
+  for (int v : skin.vertices)
+    if (b.pos(v).y() < kTurnTopY) neck.push_back(v);
+  std::sort(neck.begin(), neck.end());
+  for (int v : neck) {
+    m.turn_weights.vertices.push_back(v);
+    m.turn_weights.weights.push_back(smoothstep(kTurnFootY, kTurnTopY, b.pos(v).y()));
+  }
   paint_skin(m, shape);
   m.fapu = fapu_from_feature_points(m.feature_point_positions());
   m.validate("generated head");

@@ -9,13 +9,22 @@ constexpr float kSkin[3] = {0.87f, 0.68f, 0.58f};
 
 }  // namespace
 
-Bounds portrait_bounds(const FaceModel& model, const Bounds& full) {
+Bounds portrait_bounds(const FaceModel& model, const Bounds& full, float below_chin) {
   const FeaturePointId chin{2, 1};
   if (!model.has_feature_point(chin)) return full;
   const auto chin_y = static_cast<float>(model.feature_point(chin).y());
   if (chin_y <= full.min[1] || chin_y >= full.max[1]) return full;
-  Bounds b = full;
-  b.min[1] = std::max(full.min[1], chin_y - 0.12f * (full.max[1] - chin_y));
+  const float bottom = std::max(full.min[1], chin_y - below_chin * (full.max[1] - chin_y));
+  Bounds b;
+  b.min = {full.max[0], bottom, full.max[2]};
+  b.max = {full.min[0], full.max[1], full.min[2]};
+  for (const Eigen::Vector3f& p : model.positions) {
+    if (p.y() < bottom) continue;
+    for (int k : {0, 2}) {
+      b.min[static_cast<std::size_t>(k)] = std::min(b.min[static_cast<std::size_t>(k)], p[k]);
+      b.max[static_cast<std::size_t>(k)] = std::max(b.max[static_cast<std::size_t>(k)], p[k]);
+    }
+  }
   return b;
 }
 

@@ -24,9 +24,10 @@ namespace rostro::render {
 // The model's neutral mesh as renderer input; vertices without colours get a skin tone.
 RenderMesh to_render_mesh(const FaceModel& model);
 
-// The neutral head's bounds `full`, cut off a little below the chin so a long neck does not
-// shrink the face: a portrait framing. Models without a chin point (2.1) keep their full bounds.
-Bounds portrait_bounds(const FaceModel& model, const Bounds& full);
+// The bounds of the neutral head above a line `below_chin` x (top - chin) below the chin, so
+// that a long neck or shoulders do not shrink the face: a portrait framing (0.12), or with
+// more of the neck and shoulders. Models without a chin point (2.1) keep their full bounds.
+Bounds portrait_bounds(const FaceModel& model, const Bounds& full, float below_chin = 0.12f);
 
 // Flattens deformed positions into the renderer's x, y, z list.
 void flatten(const std::vector<Eigen::Vector3f>& positions, std::vector<float>& out);

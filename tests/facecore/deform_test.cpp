@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -133,6 +134,42 @@ TEST(Deformer, HeadRotatesAboutSevenOne) {
   // Pitch positive looks down: the nose tip goes down.
   EXPECT_LT(deform_one(48, 10000)[static_cast<std::size_t>(head().feature_points.at({9, 3}))].y(),
             static_cast<float>(tip.y()));
+}
+
+TEST(Deformer, TheNeckTwistsBetweenTheTurningHeadAndShouldersThatStay) {
+  const TurnWeights& t = head().turn_weights;
+  ASSERT_FALSE(t.empty());
+  // Every FAP at once, the head turned 0.3 rad each way: a vertex with weight 0 (the
+  // shoulders) stays where the FAPs put it, one with weight w moves to the blend
+  // w (turned) + (1 - w) (not turned).
+  FapFrame frame;
+  for (int id = 3; id <= kFapCount; ++id) frame.set(id, 150.0);
+  for (int id : {48, 49, 50}) frame.set(id, 0.0);
+  std::vector<Eigen::Vector3f> unturned, out;
+  deformer().deform(frame, unturned);
+  for (int id : {48, 49, 50}) frame.set(id, 0.3 / kAngleUnitRad);
+  deformer().deform(frame, out);
+  const Eigen::Vector3d pivot = head().head_pivot;
+  const Eigen::Matrix3d r = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) *
+                             Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()))
+                                .toRotationMatrix();
+  int still = 0, between = 0;
+  for (std::size_t i = 0; i < t.vertices.size(); ++i) {
+    const auto v = static_cast<std::size_t>(t.vertices[i]);
+    const Eigen::Vector3d p = unturned[v].cast<double>();
+    const Eigen::Vector3d turned = pivot + r * (p - pivot);
+    const double w = t.weights[i];
+    const Eigen::Vector3d expected = w * turned + (1 - w) * p;
+    ASSERT_LT((out[v].cast<double>() - expected).norm(), 1e-3) << "vertex " << v << ", w " << w;
+    if (w == 0.0) ASSERT_EQ(unturned[v], head().positions[v]) << "no FAP moves the shoulders";
+    still += w == 0.0;
+    between += w > 0.0 && w < 1.0;
+  }
+  EXPECT_GT(still, 100);   // the shoulders
+  EXPECT_GT(between, 50);  // the neck
+  // The face turns whole: the nose tip is not among them.
+  EXPECT_EQ(std::count(t.vertices.begin(), t.vertices.end(), head().feature_points.at({9, 3})), 0);
 }
 
 TEST(Deformer, EyesTurnInTheHeadThatTurns) {

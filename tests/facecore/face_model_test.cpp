@@ -113,6 +113,23 @@ TEST_F(FaceModelFiles, OtherMistakesAreInputErrors) {
   EXPECT_THROW(load_face_model(dir_ / "missing.json"), InputError);
 }
 
+TEST_F(FaceModelFiles, TurnWeightsAreReadAndTheirMistakesNamed) {
+  description_["turn_weights"] = {{"vertices", {0, 1}}, {"weights", {0.0, 0.5}}};
+  const FaceModel m = load_face_model(write(description_));
+  EXPECT_EQ(m.turn_weights.vertices, (std::vector<int>{0, 1}));
+  EXPECT_EQ(m.turn_weights.weights, (std::vector<double>{0.0, 0.5}));
+  description_["turn_weights"]["weights"] = {0.0, 1.5};
+  EXPECT_NE(error_of(description_).find("turn_weights: a weight is 1.5"), std::string::npos);
+  description_["turn_weights"]["weights"] = {0.0};
+  EXPECT_NE(error_of(description_).find("turn_weights: 1 weights for 2 vertices"),
+            std::string::npos);
+  description_["turn_weights"] = {{"vertices", {0, 9}}, {"weights", {0.0, 0.0}}};
+  EXPECT_NE(error_of(description_).find("turn_weights: vertex index 9 is out of range"),
+            std::string::npos);
+  description_["turn_weights"] = {{"vertices", {0}}};
+  EXPECT_NE(error_of(description_).find("needs both 'vertices' and 'weights'"), std::string::npos);
+}
+
 TEST_F(FaceModelFiles, GeneratedHeadRoundTripsThroughObjAndJson) {
   const FaceModel a = generate_head(HeadOptions{3000});
   save_face_model(a, dir_ / "head", "head");
@@ -133,6 +150,11 @@ TEST_F(FaceModelFiles, GeneratedHeadRoundTripsThroughObjAndJson) {
     EXPECT_EQ(a.regions[r].anchors, b.regions[r].anchors) << a.regions[r].name;
   }
   EXPECT_EQ(a.parts.left_eyeball.vertices, b.parts.left_eyeball.vertices);
+  ASSERT_FALSE(a.turn_weights.empty());
+  EXPECT_EQ(a.turn_weights.vertices, b.turn_weights.vertices);
+  ASSERT_EQ(a.turn_weights.weights.size(), b.turn_weights.weights.size());
+  for (std::size_t i = 0; i < a.turn_weights.weights.size(); ++i)
+    ASSERT_NEAR(a.turn_weights.weights[i], b.turn_weights.weights[i], 5e-4);
   EXPECT_NEAR(a.fapu.mw0, b.fapu.mw0, 1e-3);
   // The skin's texture and coordinates come back; the eyes and teeth have none.
   ASSERT_FALSE(b.texture.empty());

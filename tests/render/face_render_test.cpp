@@ -118,7 +118,34 @@ TEST(FaceRender, ThreeQuarterViewStillFramesTheHead) {
   const cv::Mat image = face->render(FapFrame{}, CameraPose::three_quarter());
   EXPECT_GT(covered_fraction(image, cv::Rect(0, 0, kWidth, kHeight)), 0.2);
   EXPECT_LT(covered_fraction(image, cv::Rect(0, 0, kWidth, 2)), 0.05);
-  EXPECT_LT(covered_fraction(image, cv::Rect(0, kHeight - 2, kWidth, 2)), 0.3);
+  // The face from brows to chin is inside the image, the chin above its bottom tenth (the neck
+  // and shoulders go on below it).
+  for (const char* id : {"4.5", "4.6", "9.3", "2.1", "3.5", "3.6"}) {
+    const auto p = project(*face, CameraPose::three_quarter(), kWidth, kHeight, point(id));
+    EXPECT_TRUE(cv::Rect(0, 0, kWidth, kHeight * 9 / 10).contains(p)) << id << " at " << p;
+  }
+}
+
+TEST(FaceRender, PortraitFramingIsTheHeadNotTheShoulders) {
+  // The default head goes on into shoulders 400 mm wide; the portrait box is the head's from a
+  // little below the chin, as wide as the head with its ears.
+  const FaceModel& model = DefaultHead::get().model;
+  Bounds full;
+  full.min = full.max = {model.positions[0].x(), model.positions[0].y(), model.positions[0].z()};
+  for (const Eigen::Vector3f& p : model.positions)
+    for (std::size_t k = 0; k < 3; ++k) {
+      full.min[k] = std::min(full.min[k], p[static_cast<Eigen::Index>(k)]);
+      full.max[k] = std::max(full.max[k], p[static_cast<Eigen::Index>(k)]);
+    }
+  ASSERT_GT(full.size()[0], 350.0f) << "the default head has no shoulders";
+  const Bounds portrait = portrait_bounds(model, full);
+  const double chin = point("2.1").y(), ear = point("10.3").x();  // the left ear's back
+  EXPECT_LT(portrait.min[1], chin);
+  EXPECT_GT(portrait.min[1], chin - 40);
+  EXPECT_EQ(portrait.max[1], full.max[1]);
+  EXPECT_GT(portrait.max[0], ear);
+  EXPECT_LT(portrait.max[0], 110.0f);
+  EXPECT_LT(portrait.size()[2], 250.0f);
 }
 
 }  // namespace
