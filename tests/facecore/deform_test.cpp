@@ -162,7 +162,9 @@ TEST(Deformer, TheNeckTwistsBetweenTheTurningHeadAndShouldersThatStay) {
     const double w = t.weights[i];
     const Eigen::Vector3d expected = w * turned + (1 - w) * p;
     ASSERT_LT((out[v].cast<double>() - expected).norm(), 1e-3) << "vertex " << v << ", w " << w;
-    if (w == 0.0) ASSERT_EQ(unturned[v], head().positions[v]) << "no FAP moves the shoulders";
+    if (w == 0.0) {
+      ASSERT_EQ(unturned[v], head().positions[v]) << "no FAP moves the shoulders";
+    }
     still += w == 0.0;
     between += w > 0.0 && w < 1.0;
   }
