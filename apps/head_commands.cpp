@@ -14,7 +14,7 @@ void add_head_commands(CLI::App& app) {
       "head",
       "Generate rostro's procedural head: <dir>/head.obj (texture coordinates, vertex colours), "
       "<dir>/head.png (the skin's texture) and <dir>/head.json (feature points, influence "
-      "regions, rigid parts)");
+      "regions, rigid parts, the neck's turn weights)");
   head->footer(
       "The default head in data/head/ was made with the first example.\n\n"
       "Example:\n"
