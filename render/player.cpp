@@ -49,6 +49,7 @@ PlayerReport play_on_clock(const PlayerOptions& options, PlaybackClock& clock, P
   PlayerReport report;
   long last = -1;
   bool jumped = false;  // a seek: the next gap is not a skip
+  bool redraw = false;  // paused or resumed: the view shows the frame again, in its new state
   clock.start();
   while (true) {
     for (const PlayerCommand command : view.poll()) {
@@ -59,6 +60,7 @@ PlayerReport play_on_clock(const PlayerOptions& options, PlaybackClock& clock, P
             clock.start();
           else
             clock.pause();
+          redraw = true;
           break;
         case PlayerCommand::SeekBack:
           clock.seek(std::max(0.0, now - options.seek_step_s));
@@ -80,11 +82,14 @@ PlayerReport play_on_clock(const PlayerOptions& options, PlaybackClock& clock, P
     if (report.quit) break;
     const double t = clock.position_s();
     const long frame = frame_at(t, options.fps, options.frame_count);
-    if (frame != last) {
-      if (!jumped && last >= 0 && frame > last + 1) report.frames_skipped += frame - last - 1;
+    if (frame != last || redraw) {
+      if (frame != last) {
+        if (!jumped && last >= 0 && frame > last + 1) report.frames_skipped += frame - last - 1;
+        ++report.frames_shown;
+      }
       jumped = false;
+      redraw = false;
       view.show(frame, t);
-      ++report.frames_shown;
       last = frame;
       continue;
     }

@@ -51,7 +51,8 @@ enum class PlayerCommand { TogglePause, SeekBack, SeekForward, Restart, Quit };
 class PlayerView {
  public:
   virtual ~PlayerView() = default;
-  // Shows frame `frame`, chosen at clock time `clock_s`; may take as long as it takes.
+  // Shows frame `frame`, chosen at clock time `clock_s`; may take as long as it takes. After a
+  // pause or a resume the frame at the clock is shown again (it may be the one shown).
   virtual void show(long frame, double clock_s) = 0;
   // The commands since the last call (window events are handled here).
   virtual std::vector<PlayerCommand> poll() = 0;

@@ -46,10 +46,8 @@ std::vector<PlayerCommand> WindowPlayerView::poll() {
     for (const auto& [k, command] : kCommands) {
       if (k == key) commands.push_back(command);
     }
-    if (key == WindowKey::Space) {
-      paused_ = !paused_;
-      update_title(-1);
-    }
+    // The player shows the frame at the paused (or resumed) clock next, with this title.
+    if (key == WindowKey::Space) paused_ = !paused_;
   }
   if (window_.should_close() && (commands.empty() || commands.back() != PlayerCommand::Quit))
     commands.push_back(PlayerCommand::Quit);
@@ -61,12 +59,10 @@ void WindowPlayerView::wait() {
 }
 
 void WindowPlayerView::update_title(double clock_s) {
-  const double t =
-      clock_s >= 0 ? clock_s : static_cast<double>(std::max(0L, shown_)) / stream_.header.fps;
   char text[160];
   std::snprintf(text, sizeof text,
-                "  %.2f s  frame %ld/%zu%s   [Space] pause  [Left/Right] seek  [Q] quit", t, shown_,
-                stream_.frames.size(), paused_ ? "  (paused)" : "");
+                "  %.2f s  frame %ld/%zu%s   [Space] pause  [Left/Right] seek  [Q] quit", clock_s,
+                shown_, stream_.frames.size(), paused_ ? "  (paused)" : "");
   window_.set_title(title_ + text);
 }
 
