@@ -131,6 +131,8 @@ void add_synth_commands(CLI::App& app) {
   cmd->add_option("--yaw", a.o.yaw_deg,
                   "camera orbit left-right, degrees (moves the view, not the FAPs)");
   cmd->add_option("--pitch", a.o.pitch_deg, "camera orbit up-down, degrees");
+  cmd->add_option("--elevation", a.o.elevation_deg,
+                  "camera held this many degrees above the face (below if negative)");
   cmd->add_option("--roll", a.o.roll_deg, "camera tilt, degrees");
   cmd->add_option("--motion-period", a.o.motion_period_s, "seconds per camera sweep")
       ->capture_default_str();

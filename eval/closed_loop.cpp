@@ -47,9 +47,10 @@ class CallbackSink : public render::FrameSink {
 
 LoopScenario parse_scenario(const json& j, const json& defaults, const std::string& where) {
   static const std::set<std::string> known = {
-      "name",        "title",        "drive",          "fps",          "seconds",
-      "seed",        "neutral_lead", "head_yaw",       "head_pitch",   "head_roll",
-      "head_period", "aim",          "markerless_aim", "head_vertices"};
+      "name",        "title",        "drive",          "fps",           "seconds",
+      "seed",        "neutral_lead", "head_yaw",       "head_pitch",    "head_roll",
+      "head_period", "aim",          "markerless_aim", "head_vertices", "camera_elevation",
+      "size"};
   if (!j.is_object()) throw InputError(where + ": a scenario should be an object");
   for (const auto& [key, value] : j.items())
     if (!known.count(key)) throw InputError(where + ": unknown key '" + key + "'");
@@ -98,11 +99,15 @@ LoopScenario parse_scenario(const json& j, const json& defaults, const std::stri
                      std::to_string(kMinHeadVertices) + " to 1000000");
   s.head_vertices = static_cast<int>(vertices);
   s.synth.seed = static_cast<unsigned>(num("seed", 1));
-  if (defaults.contains("size")) {
-    const json& size = defaults["size"];
+  s.synth.elevation_deg = num("camera_elevation", 0);
+  if (!(std::abs(s.synth.elevation_deg) <= 60))
+    throw InputError(at + ": 'camera_elevation' should be within -60..60 degrees");
+  if (j.contains("size") || defaults.contains("size")) {  // the scenario's, else the file's
+    const json& size = j.contains("size") ? j["size"] : defaults["size"];
     if (!size.is_array() || size.size() != 2 || !size[0].is_number_integer() ||
         !size[1].is_number_integer() || size[0].get<int>() < 16 || size[1].get<int>() < 16)
-      throw InputError(where + ": 'size' should be [width, height] in pixels");
+      throw InputError((j.contains("size") ? at : where) +
+                       ": 'size' should be [width, height] in pixels");
     s.synth.width = size[0].get<int>();
     s.synth.height = size[1].get<int>();
   }

@@ -25,8 +25,10 @@
 // the head is rendered bare and tracked by its landmarks: default 0.10 still, 0.15 with head
 // sweeps, issue 17's), head_vertices (render the head `rostro head --vertices N` generates
 // instead of the one given: the same head sampled elsewhere, a face no rule was tuned on; 0,
-// the default: the one given). Top-level keys size, seed, fps, neutral_lead,
-// calibration_seconds, head_period, head_vertices are defaults.
+// the default: the one given), camera_elevation (degrees the camera is held above the face's
+// level, below if negative: a face seen from another height), size ([width, height]). Top-level
+// keys size, seed, fps, neutral_lead, calibration_seconds, head_period, head_vertices are
+// defaults.
 
 #include <array>
 #include <filesystem>

@@ -210,6 +210,8 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
   if (o.motion_blur < 0 || o.motion_blur > 1)
     throw InputError("synth: --motion-blur must be in 0..1");
   if (o.light_amp < 0 || o.light_amp > 1) throw InputError("synth: --light must be in 0..1");
+  if (!(std::abs(o.elevation_deg) <= 60))
+    throw InputError("synth: --elevation must be within -60..60 degrees");
 
   render::RenderOptions ro;
   ro.width = o.width;
@@ -218,6 +220,7 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
   const double aspect = static_cast<double>(o.width) / o.height;
   render::CameraPose base = render::CameraPose::front();
   base.fov_deg = o.fov_deg;
+  base.pitch_deg = o.elevation_deg;
   const double base_distance =
       render::frame_camera(base, face.framing(), aspect).distance * o.distance_scale;
 
@@ -252,7 +255,7 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
     const double w = 2 * kPi * t / o.motion_period_s;
     render::CameraPose pose = base;
     pose.yaw_deg = o.yaw_deg * std::sin(w);
-    pose.pitch_deg = o.pitch_deg * std::sin(0.73 * w + phase_pitch);
+    pose.pitch_deg = o.elevation_deg + o.pitch_deg * std::sin(0.73 * w + phase_pitch);
     pose.roll_deg = o.roll_deg * std::sin(0.57 * w + phase_roll);
     pose.distance = base_distance * (1.0 + o.distance_amp * std::sin(0.41 * w + phase_dist));
 

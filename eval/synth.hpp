@@ -38,6 +38,9 @@ struct SynthOptions {
   // Head motion, as the camera orbiting the head: sine sweeps of these amplitudes.
   double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
   double motion_period_s = 4.0;  // one full left-right (up-down) sweep
+  // The camera held this far above the face's level, degrees (below when negative), looking
+  // down (up) at it; the pitch sweep swings about it.
+  double elevation_deg = 0;
   double distance_amp = 0;       // relative distance change (0.1: +-10 %)
   double brightness = 1.0;       // overall gain; below 1 for low light
   double light_amp = 0;          // slow brightness dips of up to this share (0..1)

@@ -137,9 +137,33 @@ TEST(ClosedLoopFile, HeadVerticesNameAGeneratedHead) {
   const std::string e = error_of([&] { load_closed_loop(few); });
   EXPECT_NE(e.find("scenario 1 (a)"), std::string::npos) << e;
   EXPECT_NE(e.find("'head_vertices'"), std::string::npos) << e;
-  // The heads file names heads of other densities.
+  // The heads file names heads of other densities, or the default head seen from elsewhere.
   const LoopDefinition heads = load_closed_loop(data_file("eval/closed_loop_heads.json"));
-  for (const LoopScenario& s : heads.scenarios) EXPECT_GT(s.head_vertices, 0) << s.name;
+  for (const LoopScenario& s : heads.scenarios)
+    EXPECT_TRUE(s.head_vertices > 0 || s.synth.elevation_deg != 0) << s.name;
+}
+
+// A scenario may hold the camera above or below the face and take its own image size; out of
+// range, the file is refused, naming the scenario and the key.
+TEST(ClosedLoopFile, CameraElevationAndSizePerScenario) {
+  const auto file = temp_file("views.json", R"({"size": [640, 480], "scenarios": [{"name": "a"},
+      {"name": "b", "camera_elevation": -6, "size": [1280, 720]}]})");
+  const LoopDefinition d = load_closed_loop(file);
+  ASSERT_EQ(d.scenarios.size(), 2u);
+  EXPECT_EQ(d.scenarios[0].synth.elevation_deg, 0);
+  EXPECT_EQ(d.scenarios[0].synth.width, 640);  // the file's size
+  EXPECT_EQ(d.scenarios[1].synth.elevation_deg, -6);
+  EXPECT_EQ(d.scenarios[1].synth.width, 1280);
+  EXPECT_EQ(d.scenarios[1].synth.height, 720);
+  const auto steep =
+      temp_file("steep.json", R"({"scenarios": [{"name": "a", "camera_elevation": 75}]})");
+  std::string e = error_of([&] { load_closed_loop(steep); });
+  EXPECT_NE(e.find("scenario 1 (a)"), std::string::npos) << e;
+  EXPECT_NE(e.find("'camera_elevation'"), std::string::npos) << e;
+  const auto small = temp_file("small.json", R"({"scenarios": [{"name": "a", "size": [8, 8]}]})");
+  e = error_of([&] { load_closed_loop(small); });
+  EXPECT_NE(e.find("scenario 1 (a)"), std::string::npos) << e;
+  EXPECT_NE(e.find("'size'"), std::string::npos) << e;
 }
 
 TEST(HeadSweeps, WrittenIntoFaps48To50AfterTheLeadIn) {

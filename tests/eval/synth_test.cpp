@@ -31,6 +31,14 @@ class SynthScene : public ::testing::Test {
     layout = tracking::load_layout(tracking::default_layout_path());
     markers = place_markers(model, layout);
   }
+  // A small 320x240 clip of the layout's dots.
+  SynthOptions small_clip() const {
+    SynthOptions o;
+    o.width = 320;
+    o.height = 240;
+    o.dot_diameter_mm = layout.dot_diameter_mm;
+    return o;
+  }
   FaceModel model;
   tracking::MarkerLayout layout;
   std::vector<PaintedMarker> markers;  // point into `layout`
@@ -48,10 +56,7 @@ TEST_F(SynthScene, TruthSitsOnTheDrawnDots) {
   ASSERT_GE(markers.size(), 20u);
   FapStream drive = range_of_motion(25);
   drive.frames.resize(4);
-  SynthOptions o;
-  o.width = 320;
-  o.height = 240;
-  o.dot_diameter_mm = layout.dot_diameter_mm;
+  const SynthOptions o = small_clip();
   MemorySink sink;
   SynthResult r;
   try {
@@ -79,6 +84,35 @@ TEST_F(SynthScene, TruthSitsOnTheDrawnDots) {
   EXPECT_EQ(dark, visible);  // every visible truth point lands on a dark dot
   // The face's left eye is on the viewer's right in an unmirrored frontal view.
   EXPECT_GT(left_eye.x, right_eye.x + 20);
+}
+
+TEST_F(SynthScene, ACameraHeldAboveSeesTheFaceFromAbove) {
+  FapStream drive = range_of_motion(25);
+  drive.frames.resize(1);
+  SynthOptions o = small_clip();
+  o.elevation_deg = 75;
+  MemorySink sink;
+  try {
+    EXPECT_THROW(synthesize(model, nullptr, markers, drive, o, sink), InputError);
+    // Seen from 20 degrees above, the brows' dots come nearer the mouth's in the image than
+    // seen level (the forehead leans back from the line of sight, the face is foreshortened).
+    auto brow_to_mouth = [&](double elevation) {
+      o.elevation_deg = elevation;
+      MemorySink frames;
+      const SynthResult r = synthesize(model, nullptr, markers, drive, o, frames);
+      double brow = 0, mouth = 0;
+      for (const auto& m : r.truth[0].markers) {
+        if (m.feature_point.str() == "4.3") brow = m.position.y;
+        if (m.feature_point.str() == "8.1") mouth = m.position.y;
+      }
+      return mouth - brow;
+    };
+    const double level = brow_to_mouth(0), above = brow_to_mouth(20);
+    EXPECT_GT(level, 20.0);
+    EXPECT_LT(above, level * 0.99);
+  } catch (const render::RenderUnavailable& e) {
+    GTEST_SKIP() << "no OpenGL: " << e.what();
+  }
 }
 
 TEST_F(SynthScene, TagDetectorFindsTheDrawnTagsAtTheirTruth) {
