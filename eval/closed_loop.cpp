@@ -100,8 +100,9 @@ LoopScenario parse_scenario(const json& j, const json& defaults, const std::stri
   s.head_vertices = static_cast<int>(vertices);
   s.synth.seed = static_cast<unsigned>(num("seed", 1));
   s.synth.elevation_deg = num("camera_elevation", 0);
-  if (!(std::abs(s.synth.elevation_deg) <= 60))
-    throw InputError(at + ": 'camera_elevation' should be within -60..60 degrees");
+  if (!(std::abs(s.synth.elevation_deg) <= kMaxElevationDeg))
+    throw InputError(at + fmt::format(": 'camera_elevation' should be within -{0:g}..{0:g} degrees",
+                                      kMaxElevationDeg));
   if (j.contains("size") || defaults.contains("size")) {  // the scenario's, else the file's
     const json& size = j.contains("size") ? j["size"] : defaults["size"];
     if (!size.is_array() || size.size() != 2 || !size[0].is_number_integer() ||

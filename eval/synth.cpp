@@ -1,5 +1,7 @@
 #include "eval/synth.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -210,8 +212,9 @@ SynthResult synthesize(const FaceModel& model, const ExpressionLibrary* library,
   if (o.motion_blur < 0 || o.motion_blur > 1)
     throw InputError("synth: --motion-blur must be in 0..1");
   if (o.light_amp < 0 || o.light_amp > 1) throw InputError("synth: --light must be in 0..1");
-  if (!(std::abs(o.elevation_deg) <= 60))
-    throw InputError("synth: --elevation must be within -60..60 degrees");
+  if (!(std::abs(o.elevation_deg) <= kMaxElevationDeg))
+    throw InputError(
+        fmt::format("synth: --elevation must be within -{0:g}..{0:g} degrees", kMaxElevationDeg));
 
   render::RenderOptions ro;
   ro.width = o.width;

@@ -30,6 +30,8 @@
 
 namespace rostro::eval {
 
+constexpr double kMaxElevationDeg = 60;
+
 struct SynthOptions {
   int width = 640;
   int height = 480;
@@ -39,7 +41,7 @@ struct SynthOptions {
   double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
   double motion_period_s = 4.0;  // one full left-right (up-down) sweep
   // The camera held this far above the face's level, degrees (below when negative), looking
-  // down (up) at it; the pitch sweep swings about it.
+  // down (up) at it; the pitch sweep swings about it. At most kMaxElevationDeg either way.
   double elevation_deg = 0;
   double distance_amp = 0;       // relative distance change (0.1: +-10 %)
   double brightness = 1.0;       // overall gain; below 1 for low light

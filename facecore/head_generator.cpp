@@ -342,25 +342,33 @@ LatLong lat_long(Builder& b, const std::vector<double>& angles, int segments,
   return out;
 }
 
+// `count` row heights from below `top` down to `bottom` (the last), at equal steps of a measure
+// summed over `samples` slices of the height: slice i (1-based) adds `increment(i, slice)`.
+std::vector<double> rows_at_equal_steps(double top, double bottom, int count, int samples,
+                                        const std::function<double(int, double)>& increment) {
+  std::vector<double> cdf(static_cast<std::size_t>(samples) + 1, 0.0);
+  const double step = (top - bottom) / samples;
+  for (int i = 1; i <= samples; ++i)
+    cdf[static_cast<std::size_t>(i)] = cdf[static_cast<std::size_t>(i - 1)] + increment(i, step);
+  std::vector<double> ys;
+  for (int r = 1; r <= count; ++r) {
+    const double target = cdf.back() * r / count;
+    const auto it = std::lower_bound(cdf.begin(), cdf.end(), target);
+    const auto i = static_cast<double>(it - cdf.begin());
+    ys.push_back(top - i * step);
+  }
+  return ys;
+}
+
 // Row heights of the skin below the skull cap: denser around the eyes and the mouth.
 std::vector<double> body_rows(int count) {
   auto density = [](double y) {
     return 1.0 + 2.0 * gauss(y - kEyeY, 9) + 2.0 * gauss(y - kMouthY, 9) + 0.6 * gauss(y, 14) +
            (y > -85 && y < 58 ? 0.8 : 0.0);
   };
-  const int samples = 4000;
-  std::vector<double> cdf(samples + 1, 0.0);
-  const double step = (kCapY - kNeckY) / samples;
-  for (int i = 1; i <= samples; ++i)
-    cdf[static_cast<std::size_t>(i)] =
-        cdf[static_cast<std::size_t>(i - 1)] + density(kCapY - (i - 0.5) * step) * step;
-  std::vector<double> ys;
-  for (int r = 1; r <= count; ++r) {
-    const double target = cdf.back() * r / count;
-    const auto it = std::lower_bound(cdf.begin(), cdf.end(), target);
-    const auto i = static_cast<double>(it - cdf.begin());
-    ys.push_back(kCapY - i * step);
-  }
+  std::vector<double> ys = rows_at_equal_steps(kCapY, kNeckY, count, 4000, [&](int i, double step) {
+    return density(kCapY - (i - 0.5) * step) * step;
+  });
   // Snap the nearest rows onto the eye and mouth lines (the slits lie on rows).
   for (double line : {kEyeY, kMouthY}) {
     auto best = std::min_element(ys.begin(), ys.end(), [&](double a, double c) {
@@ -764,21 +772,15 @@ FaceModel generate_head(const HeadOptions& options) {
   // rows at equal steps along the shoulder's slope. No region moves them.
   std::vector<int> shoulders;
   {
-    const int shoulder_rows = std::clamp(skin.rows / 6, 8, 40);
-    constexpr int kSamples = 2000;
-    const double dy = (kNeckY - kFootY) / kSamples;
-    std::vector<double> along(kSamples + 1, 0.0);  // the side's outline's length from the foot
-    for (std::size_t i = 1; i <= kSamples; ++i) {
-      const double y = kNeckY - static_cast<double>(i) * dy;
-      along[i] = along[i - 1] + std::hypot(dy, curve(kHalfWidth, y) - curve(kHalfWidth, y + dy));
-    }
+    // Equal steps along the side's outline (half width against height).
+    const std::vector<double> heights = rows_at_equal_steps(
+        kNeckY, kFootY, std::clamp(skin.rows / 6, 8, 40), 2000, [](int i, double step) {
+          const double y = kNeckY - static_cast<double>(i) * step;
+          return std::hypot(step, curve(kHalfWidth, y) - curve(kHalfWidth, y + step));
+        });
     std::vector<int> above;  // the row above, column by column
     for (int c = 0; c < cols; ++c) above.push_back(at(skin.rows - 1, c, false));
-    for (int r = 1; r <= shoulder_rows; ++r) {
-      const auto i =
-          std::lower_bound(along.begin(), along.end(), along.back() * r / shoulder_rows) -
-          along.begin();
-      const double y = kNeckY - static_cast<double>(i) * dy;
+    for (const double y : heights) {
       std::vector<int> row;
       for (int c = 0; c < cols; c += 2) {
         const double phi = phi_of(c);

@@ -15,16 +15,11 @@ Bounds portrait_bounds(const FaceModel& model, const Bounds& full, float below_c
   const auto chin_y = static_cast<float>(model.feature_point(chin).y());
   if (chin_y <= full.min[1] || chin_y >= full.max[1]) return full;
   const float bottom = std::max(full.min[1], chin_y - below_chin * (full.max[1] - chin_y));
-  Bounds b;
-  b.min = {full.max[0], bottom, full.max[2]};
-  b.max = {full.min[0], full.max[1], full.min[2]};
-  for (const Eigen::Vector3f& p : model.positions) {
-    if (p.y() < bottom) continue;
-    for (int k : {0, 2}) {
-      b.min[static_cast<std::size_t>(k)] = std::min(b.min[static_cast<std::size_t>(k)], p[k]);
-      b.max[static_cast<std::size_t>(k)] = std::max(b.max[static_cast<std::size_t>(k)], p[k]);
-    }
-  }
+  std::vector<float> above;  // the vertices above the bottom line, flattened
+  for (const Eigen::Vector3f& p : model.positions)
+    if (p.y() >= bottom) above.insert(above.end(), {p.x(), p.y(), p.z()});
+  Bounds b = bounds_of(above);
+  b.min[1] = bottom;
   return b;
 }
 
