@@ -32,6 +32,9 @@ constexpr double kBrowInner = 6.0, kBrowOuter = 3.0;  // the brow's height at it
 constexpr double kMouthY = -32.0, kMouthHW = 23.5;    // mouth line, inner corners at +-kMouthHW
 constexpr double kMouthOpen = 0.3;                    // neutral lips nearly touch: a dark line
 constexpr double kOuterCornerX = 25.5;
+// Past the lips' outer corners the skin moves with the corner, wholly from kCornerSkinX either
+// side, as far as kCornerReach from it.
+constexpr double kCornerSkinX = 28, kCornerReach = 26;
 constexpr double kCapY = 60.0, kCrownY = 122.0, kNeckY = -150.0;
 // Below the neck's foot the skin goes on into the shoulders, down to kFootY: 416 texels of the
 // skin's texture below kNeckY, so that the face's texels lie where they would without them.
@@ -993,6 +996,19 @@ FaceModel generate_head(const HeadOptions& options) {
     const bool mouth_edge = s != Side::None && std::abs(p.y() - kMouthY) < 15;
     return mouth_edge ? s == Side::Upper : p.y() >= kMouthY - 1e-6;
   };
+  // Past the lips' outer corners the skin follows the corner itself (below), whichever side
+  // of the mouth line it lies: the lips' regions hand it over between kOuterCornerX and
+  // kCornerSkinX, so that a corner stretched or raised by a full smile, or drawn in by a
+  // rounded "oo", carries the cheek beside it. The lips' own regions, held by their anchors
+  // farther out, left it moving with the corner up to their edge and the skin beyond still:
+  // a fold across the cheek.
+  auto corner_share = [&](int v) {
+    return smoothstep(kOuterCornerX, kCornerSkinX, std::abs(b.pos(v).x()));
+  };
+  auto hand_over_to_the_corners = [&](InfluenceRegion& r) {
+    r.vertex_weights.clear();
+    for (int v : r.vertices) r.vertex_weights.push_back(1 - corner_share(v));
+  };
   std::vector<InfluenceRegion> regions;
   std::vector<InfluenceRegion> sided;  // defined on the left, mirrored below
 
@@ -1012,6 +1028,7 @@ FaceModel generate_head(const HeadOptions& options) {
                                  {-35, -22, 0},
                                  {35.5, my + 0.5, 0},
                                  {-35.5, my + 0.5, 0}});
+    hand_over_to_the_corners(r);
     regions.push_back(r);
   }
   {  // Lower lip, anchored along the chin groove.
@@ -1028,6 +1045,7 @@ FaceModel generate_head(const HeadOptions& options) {
                                  {-28, my - 15, 0},
                                  {35, my - 4, 0},
                                  {-35, my - 4, 0}});
+    hand_over_to_the_corners(r);
     regions.push_back(r);
   }
   {  // Jaw: everything below the mouth follows 2.1 (open, thrust, shift), fading out at the
@@ -1133,6 +1151,20 @@ FaceModel generate_head(const HeadOptions& options) {
                                  return p.x() > 8 && std::min((p - a).norm(), (p - c).norm()) < 24;
                                }));
     r.d_max = 24;
+    sided.push_back(r);
+  }
+  {  // Skin beside the left mouth corner: a cosine around it, taken over from the lips.
+    const V3 c = b.pos(fp[{8, 3}]);
+    InfluenceRegion r = region("mouth_corner_l", InfluenceKind::RaisedCosine, {{8, 3}}, {});
+    r.d_max = kCornerReach;
+    for (int v : skin_all) {
+      const V3 p = b.pos(v);
+      const double w = corner_share(v);
+      if (p.x() <= kOuterCornerX || p.z() <= 50 || w <= 1e-3 || (p - c).norm() >= kCornerReach)
+        continue;
+      r.vertices.push_back(v);
+      r.vertex_weights.push_back(w);
+    }
     sided.push_back(r);
   }
   {  // Left nostril.

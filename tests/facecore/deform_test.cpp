@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "facecore/deformer.hpp"
@@ -458,6 +459,54 @@ TEST(HeadGenerator, ResolutionFollowsTheRequestedVertexCount) {
   }
   EXPECT_NEAR(static_cast<double>(head().positions.size()), 5000, 750);
   EXPECT_THROW(generate_head(HeadOptions{100}), InputError);
+}
+
+TEST(HeadGenerator, TheSkinPastTheMouthCornersFollowsThemWithoutAFold) {
+  // A full smile (joy's stretch, a little more raise): both outer corners about 10 mm out and
+  // up. The skin past the corners bends with them, nowhere folding: a region that ended there
+  // would leave one vertex moving with the corner and the next still, a crease across the
+  // cheek where two neighbouring triangles turn sharply against each other (109 degrees more
+  // than on the neutral face, when the lips' regions did; 15 now).
+  FapFrame smile;
+  for (int id : {53, 54}) smile.set(id, 180);  // stretch_*_cornerlip_o, MW
+  for (int id : {59, 60}) smile.set(id, 250);  // raise_*_cornerlip_o, MNS
+  std::vector<Eigen::Vector3f> out;
+  deformer().deform(smile, out);
+  const std::vector<Eigen::Vector3f>& neutral = head().positions;
+  const float corner_x = neutral[static_cast<std::size_t>(head().feature_points.at({8, 3}))].x();
+  auto past_a_corner = [&](int v) {
+    const Eigen::Vector3f& p = neutral[static_cast<std::size_t>(v)];
+    return std::abs(p.x()) > corner_x && p.z() > 50 && p.y() > -60 && p.y() < -10;
+  };
+  auto normal = [](const std::vector<Eigen::Vector3f>& p, const Eigen::Vector3i& t) {
+    const auto& a = p[static_cast<std::size_t>(t[0])];
+    return (p[static_cast<std::size_t>(t[1])] - a)
+        .cross(p[static_cast<std::size_t>(t[2])] - a)
+        .normalized()
+        .eval();
+  };
+  // The triangles on each edge past the corners.
+  std::map<std::pair<int, int>, std::vector<std::size_t>> edges;
+  for (std::size_t i = 0; i < head().triangles.size(); ++i) {
+    const Eigen::Vector3i& t = head().triangles[i];
+    if (!past_a_corner(t[0]) || !past_a_corner(t[1]) || !past_a_corner(t[2])) continue;
+    for (int k = 0; k < 3; ++k) edges[std::minmax(t[k], t[(k + 1) % 3])].push_back(i);
+  }
+  double sharpest = 0;  // degrees more than the neutral face turns there
+  int checked = 0;
+  for (const auto& [edge, triangles] : edges) {
+    if (triangles.size() != 2) continue;
+    const Eigen::Vector3i& s = head().triangles[triangles[0]];
+    const Eigen::Vector3i& t = head().triangles[triangles[1]];
+    auto angle = [&](const std::vector<Eigen::Vector3f>& p) {
+      return std::acos(std::clamp(normal(p, s).dot(normal(p, t)), -1.0f, 1.0f)) * 180 /
+             std::numbers::pi;
+    };
+    sharpest = std::max(sharpest, angle(out) - angle(neutral));
+    ++checked;
+  }
+  ASSERT_GT(checked, 100);
+  EXPECT_LT(sharpest, 30);
 }
 
 TEST(HeadGenerator, EyelidsCloseTheEye) {
