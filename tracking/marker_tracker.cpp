@@ -323,18 +323,23 @@ struct MarkerTracker::Impl {
 
   // 6. (TrackerOptions::second_look_after.) The frame named afresh; where the naming is
   //    confident, about as sure as the start's (IdentificationConfidence::margin, within
-  //    kMarginNoise) and moves a followed name onto another dot, the take starts again here on
-  //    that naming. Where it only puts names a dot's width or so from where they are followed,
-  //    each of those names goes to whichever of the two dots looks more like a dot
-  //    (placed_by_look).
+  //    kMarginNoise), explains about as many dots (within kMatchedNoise) and moves a followed name
+  //    onto another dot, the take starts again here on that naming. Where it only puts names a
+  //    dot's width or so from where they are followed, each of those names goes to whichever of the
+  //    two dots looks more like a dot (placed_by_look).
   bool looked_again = false;  // since the take last started from scratch
   // The margin is a lower quartile of gaps capped at half a spacing: two confident namings of
   // the same face differ by a few hundredths near the cap, which tells neither from the other.
   static constexpr double kMarginNoise = 0.1;
+  // One dot can merge with a feature or hide on any frame; a naming that explains two fewer
+  // dots than the start's explains the face worse, however sure its margin (a drive's first
+  // jerk smears the mouth's dots onto the lips and teeth).
+  static constexpr int kMatchedNoise = 1;
   void second_look(long frame) {
     ensure_gray({0, 0, gray.cols, gray.rows});
     const Identification id = name_frame(detect_all_tags());
-    if (!id.confidence.confident || id.confidence.margin + kMarginNoise < identification.margin)
+    if (!id.confidence.confident || id.confidence.margin + kMarginNoise < identification.margin ||
+        id.confidence.matched + kMatchedNoise < identification.matched)
       return;
     std::vector<std::string> moved;
     for (size_t i = 0; i < states.size(); ++i) {
