@@ -173,6 +173,8 @@ Deformer::Deformer(const FaceModel& model, const ExpressionLibrary* library)
     const RegionWeights w = compile_region(model, region);
     for (std::size_t k = 0; k < region.feature_points.size(); ++k) {
       const int c = channel(region.feature_points[k], region.faps);
+      // A point none of the region's FAPs moves holds the region's shape but carries nothing.
+      if (channel_fap_lists[static_cast<std::size_t>(c)].empty()) continue;
       for (std::size_t i = 0; i < w.vertices.size(); ++i) {
         const double value = w.weights(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
         if (value != 0.0) weight_entries.emplace_back(w.vertices[i], c, static_cast<float>(value));
