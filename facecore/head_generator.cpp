@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <set>
 #include <string>
 
 #include "facecore/error.hpp"
@@ -33,8 +34,8 @@ constexpr double kMouthY = -32.0, kMouthHW = 23.5;    // mouth line, inner corne
 constexpr double kMouthOpen = 0.3;                    // neutral lips nearly touch: a dark line
 constexpr double kOuterCornerX = 25.5;
 // Past the lips' outer corners the skin moves with the corner, wholly from kCornerSkinX either
-// side, as far as kCornerReach from it.
-constexpr double kCornerSkinX = 28, kCornerReach = 26;
+// side and partly from kCornerShareX, as far as kCornerReach from it.
+constexpr double kCornerShareX = 16, kCornerSkinX = 28, kCornerReach = 26;
 constexpr double kCapY = 60.0, kCrownY = 122.0, kNeckY = -150.0;
 // Below the neck's foot the skin goes on into the shoulders, down to kFootY: 416 texels of the
 // skin's texture below kNeckY, so that the face's texels lie where they would without them.
@@ -997,13 +998,16 @@ FaceModel generate_head(const HeadOptions& options) {
     return mouth_edge ? s == Side::Upper : p.y() >= kMouthY - 1e-6;
   };
   // Past the lips' outer corners the skin follows the corner itself (below), whichever side
-  // of the mouth line it lies: the lips' regions hand it over between kOuterCornerX and
-  // kCornerSkinX, so that a corner stretched or raised by a full smile, or drawn in by a
-  // rounded "oo", carries the cheek beside it. The lips' own regions, held by their anchors
-  // farther out, left it moving with the corner up to their edge and the skin beyond still:
-  // a fold across the cheek.
+  // of the mouth line it lies, so that a corner stretched or raised by a full smile, or drawn
+  // in by a rounded "oo", carries the cheek beside it. The lips' regions hand the skin over
+  // between kCornerShareX and kCornerSkinX: a narrower band, or lips' regions that kept it
+  // to their anchors, left a fold from each corner toward the nose and the chin. On the
+  // mouth line itself the band starts past the inner corners, which the lips move exactly.
   auto corner_share = [&](int v) {
-    return smoothstep(kOuterCornerX, kCornerSkinX, std::abs(b.pos(v).x()));
+    const V3 p = b.pos(v);
+    const double on_line = 1 - smoothstep(0, 6, std::abs(p.y() - my));
+    const double start = kCornerShareX + (kMouthHW + 1 - kCornerShareX) * on_line;
+    return smoothstep(start, kCornerSkinX, std::abs(p.x()));
   };
   auto hand_over_to_the_corners = [&](InfluenceRegion& r) {
     r.vertex_weights.clear();
@@ -1011,6 +1015,33 @@ FaceModel generate_head(const HeadOptions& options) {
   };
   std::vector<InfluenceRegion> regions;
   std::vector<InfluenceRegion> sided;  // defined on the left, mirrored below
+  // A lip stretched or drawn in moves as a whole: no FAP moves its intermediate points (2.6-2.9,
+  // 8.5-8.8) along the mouth, so an RBF holding them would pin them there while the corners
+  // passed them (an "oo" with square ends). Each corner's stretch gets its own RBF over its
+  // half of the lip, between the corner and the still middle (a half, so that a vertex carries
+  // two more weights rather than four); the lip's other FAPs keep all points.
+  auto push_lip = [&](InfluenceRegion r) {
+    const std::vector<int> stretch = {6, 7, 53, 54};
+    InfluenceRegion half = r;
+    half.name += "_stretch_l";
+    half.faps = stretch;
+    const std::set<FeaturePointId> middles_and_left_corners = {{2, 2}, {2, 3}, {8, 1},
+                                                               {8, 2}, {2, 4}, {8, 3}};
+    half.vertices.clear();
+    half.vertex_weights.clear();
+    for (std::size_t i = 0; i < r.vertices.size(); ++i)
+      if (b.pos(r.vertices[i]).x() > 1e-6) {
+        half.vertices.push_back(r.vertices[i]);
+        half.vertex_weights.push_back(r.vertex_weights[i]);
+      }
+    std::erase_if(half.feature_points,
+                  [&](FeaturePointId id) { return !middles_and_left_corners.count(id); });
+    std::erase_if(half.anchors, [&](int v) { return b.pos(v).x() < -1e-6; });
+    for (int f = 3; f <= 68; ++f)
+      if (std::find(stretch.begin(), stretch.end(), f) == stretch.end()) r.faps.push_back(f);
+    regions.push_back(std::move(r));
+    sided.push_back(std::move(half));
+  };
 
   {  // Upper lip: RBF bounded by the inner and outer lip points, anchored at its border.
     auto v = select(skin_all, [&](const V3& p, Side s) {
@@ -1029,7 +1060,7 @@ FaceModel generate_head(const HeadOptions& options) {
                                  {35.5, my + 0.5, 0},
                                  {-35.5, my + 0.5, 0}});
     hand_over_to_the_corners(r);
-    regions.push_back(r);
+    push_lip(r);
   }
   {  // Lower lip, anchored along the chin groove.
     auto v = select(skin_all, [&](const V3& p, Side s) {
@@ -1046,7 +1077,7 @@ FaceModel generate_head(const HeadOptions& options) {
                                  {35, my - 4, 0},
                                  {-35, my - 4, 0}});
     hand_over_to_the_corners(r);
-    regions.push_back(r);
+    push_lip(r);
   }
   {  // Jaw: everything below the mouth follows 2.1 (open, thrust, shift), fading out at the
      // neck, toward the ears, and above the mouth line beside the corners.
@@ -1058,9 +1089,21 @@ FaceModel generate_head(const HeadOptions& options) {
       const V3 p = b.pos(v);
       const Side s = b.side[static_cast<std::size_t>(v)];
       if (p.z() < 0 || p.y() < -104) continue;
-      double w = smoothstep(-102, -84, p.y()) * smoothstep(0, 35, p.z());
-      if (upper_of_mouth(p, s))
-        w *= smoothstep(24, 42, std::abs(p.x())) * (1 - smoothstep(my, my + 22, p.y()));
+      const double ax = std::abs(p.x()), dy = p.y() - my;
+      const bool upper = upper_of_mouth(p, s);
+      // Away from the mouth line the lower face follows the jaw and the upper lip does not,
+      // save beside the corners. At the line the lips part by the mouth's aperture there:
+      // wholly at the middle, not at all at the corners, which go down half as far as the
+      // jaw, so that an open mouth is rounded at its ends. Past the corners, where no slit
+      // divides the skin, both sides of the line agree, and farther out go with the jaw.
+      const double away = upper ? smoothstep(24, 42, ax) * (1 - smoothstep(0, 22, dy)) : 1.0;
+      const double aperture = mouth_aperture(ax);
+      const double corner = 1 - smoothstep(kMouthHW, kMouthHW + 18, ax);
+      const double below_line = 1 - 0.5 * corner * (1 - aperture);
+      const double at_line = upper ? below_line - aperture : below_line;
+      const double near = 1 - smoothstep(0, 10, std::abs(dy));
+      double w = smoothstep(-102, -84, p.y()) * smoothstep(0, 35, p.z()) *
+                 (near * at_line + (1 - near) * away);
       if (w <= 1e-3) continue;
       r.vertices.push_back(v);
       r.vertex_weights.push_back(w);
@@ -1160,8 +1203,7 @@ FaceModel generate_head(const HeadOptions& options) {
     for (int v : skin_all) {
       const V3 p = b.pos(v);
       const double w = corner_share(v);
-      if (p.x() <= kOuterCornerX || p.z() <= 50 || w <= 1e-3 || (p - c).norm() >= kCornerReach)
-        continue;
+      if (p.x() <= 0 || p.z() <= 50 || w <= 1e-3 || (p - c).norm() >= kCornerReach) continue;
       r.vertices.push_back(v);
       r.vertex_weights.push_back(w);
     }
