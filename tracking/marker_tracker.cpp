@@ -326,8 +326,13 @@ struct MarkerTracker::Impl {
   //    kMarginNoise), explains about as many dots (within kMatchedNoise) and moves a followed name
   //    onto another dot, the take starts again here on that naming. Where it only puts names a
   //    dot's width or so from where they are followed, each of those names goes to whichever of the
-  //    two dots looks more like a dot (placed_by_look).
-  bool looked_again = false;  // since the take last started from scratch
+  //    two dots looks more like a dot (placed_by_look). A naming too unsure to judge by is tried
+  //    again second_look_after frames later, up to second_look_tries times; such a later look
+  //    renames only what the confident look before it renamed: two namings against one, however
+  //    sure the start's was.
+  bool looked_again = false;  // judged by a second look since the take last started from scratch
+  int looks = 0;              // second looks tried since then
+  std::vector<std::string> moved_before;  // the names the last unjudged look moved
   // The margin is a lower quartile of gaps capped at half a spacing: two confident namings of
   // the same face differ by a few hundredths near the cap, which tells neither from the other.
   static constexpr double kMarginNoise = 0.1;
@@ -335,12 +340,14 @@ struct MarkerTracker::Impl {
   // dots than the start's explains the face worse, however sure its margin (a drive's first
   // jerk smears the mouth's dots onto the lips and teeth).
   static constexpr int kMatchedNoise = 1;
-  void second_look(long frame) {
+  // False when the naming was too unsure to judge the followed names by.
+  bool second_look(long frame) {
     ensure_gray({0, 0, gray.cols, gray.rows});
     const Identification id = name_frame(detect_all_tags());
-    if (!id.confidence.confident || id.confidence.margin + kMarginNoise < identification.margin ||
-        id.confidence.matched + kMatchedNoise < identification.matched)
-      return;
+    if (!id.confidence.confident) {
+      moved_before.clear();
+      return false;
+    }
     std::vector<std::string> moved;
     for (size_t i = 0; i < states.size(); ++i) {
       const auto named = id.dots.find(states[i].spec->id);
@@ -348,18 +355,30 @@ struct MarkerTracker::Impl {
       if (cv::norm(named->second.center - states[i].position) > 0.5 * spacing[i] * face_scale)
         moved.push_back(states[i].spec->id);
     }
+    const bool confirmed = !moved.empty() && moved == moved_before;
+    moved_before = moved;
+    // A start on a frame a fading blur still smears is sure for a wrong reason: the blur washes
+    // out the face's own dark features, the rivals its margin is measured against.
+    const bool as_sure = id.confidence.margin + kMarginNoise >= identification.margin &&
+                         id.confidence.matched + kMatchedNoise >= identification.matched;
     if (moved.empty()) {
+      if (!as_sure) return false;
       const std::vector<std::string> placed = placed_by_look(id);
       if (!placed.empty())
         note = "second look: " + std::to_string(placed.size()) +
                " names placed by their dots' look (" + first_and_more(placed) + ")";
-      return;
+      return true;
     }
-    if (!enough(id.dots.size() + id.tags.size())) return;
+    // The first look renames alone; a look after an unjudged one only as the one before it did
+    // (a dim face's third look, as sure as the start, moved the lower lip's names onto their
+    // neighbours' dots).
+    if (!confirmed && !(as_sure && looks == 1)) return false;
+    if (!enough(id.dots.size() + id.tags.size())) return true;
     begin(adopt(id));
     started_at = frame;
     note = "identified again (" + std::to_string(moved.size()) +
            " names moved: " + first_and_more(moved) + "), " + describe(identification);
+    return true;
   }
 
   // "a" or "a, ...": a list of names in a frame's note.
@@ -1479,10 +1498,11 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     });
     m.follow();
     const long followed = frame - m.started_at;
-    if (m.options.second_look_after > 0 && followed == m.options.second_look_after &&
-        m.start_positions.empty() && !m.looked_again) {
-      m.looked_again = true;
-      m.timed("second_look", [&] { m.second_look(frame); });
+    if (m.options.second_look_after > 0 && followed > 0 &&
+        followed % m.options.second_look_after == 0 && m.start_positions.empty() &&
+        !m.looked_again && m.looks < m.options.second_look_tries) {
+      ++m.looks;
+      m.looked_again = m.timed("second_look", [&] { return m.second_look(frame); });
     }
     // (Not on a frame the second look has just named afresh.)
     if (m.options.identity_check_every > 0 && followed % m.options.identity_check_every == 0 &&
@@ -1505,6 +1525,8 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     if (m.started) {
       m.started_at = frame;
       m.looked_again = false;
+      m.looks = 0;
+      m.moved_before.clear();
       m.note = m.start_positions.empty() ? "identified, " + describe(m.identification)
                                          : "started from the starting positions";
       const cv::Rect need = m.needed_region();
@@ -1560,6 +1582,7 @@ void TrackerOptions::validate() const {
       .not_negative("min_identified", min_identified)
       .not_negative("identity_check_every", identity_check_every)
       .not_negative("second_look_after", second_look_after)
+      .at_least("second_look_tries", second_look_tries, 1)
       .not_negative("threads", threads);
 }
 
@@ -1631,6 +1654,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, identification.max_elongation),
       ROSTRO_NAMED_OPTION(O, identity_check_every),
       ROSTRO_NAMED_OPTION(O, second_look_after),
+      ROSTRO_NAMED_OPTION(O, second_look_tries),
       ROSTRO_NAMED_OPTION(O, threads),
   };
   set_named_option(options, table, "TrackerOptions", assignment);

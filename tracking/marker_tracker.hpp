@@ -34,7 +34,8 @@
 //     identity_check_every): a name is confirmed when the dot lies decisively at its own
 //     place, and a dot called by another name on two checks in a row takes it;
 //  6. once, a few frames after the start, the frame is identified afresh as at the start
-//     (TrackerOptions::second_look_after): where that confident naming puts a name on
+//     (TrackerOptions::second_look_after; again later while that naming is unsure,
+//     second_look_tries): where that confident naming puts a name on
 //     another dot, the take starts again there; where it puts a name only a dot's width or so
 //     off, the name keeps whichever of the two dots looks more like a dot on skin (round, no
 //     dark ring: not the eye's corner or the pupil).
@@ -138,6 +139,17 @@ struct TrackerOptions {
   // the naming's dot where that looks more like a dot (Dot::surround + elongation - 1 smaller)
   // and no other followed dot is there ("second look: ... placed"). 0: never.
   int second_look_after = 10;
+  // A second look whose naming is not confident, or less sure than the start's, cannot judge
+  // the names followed by itself; it is tried again second_look_after frames later, up to this
+  // many looks, and such a later look renames only the names the confident look before it
+  // renamed: two namings against the start's one. A start on a frame still smeared by a fading
+  // blur is sure for a wrong reason: the blur washes out the face's own dark features, the
+  // rivals its margin is measured against (a held-out photo scene: the left mouth corner's dot,
+  // merged with the moustache, named on the lip corner 25 px away with a margin of 0.96; the
+  // looks 10, 20 and 30 frames on, margins 0.40, 0.71 and 0.68, the last two moving that name
+  // to its dot). A later look alone is no better evidence than the start: on a dim face the
+  // third, as sure as the start by its margin, moved the lower lip's names onto wrong dots.
+  int second_look_tries = 3;
   // Threads the followed dots' centres are measured on each frame (0: the machine's cores;
   // OpenCV's cv::setNumThreads caps them). Any count gives the same tracks: each dot is
   // measured on its own, then all are judged and applied in layout order.
