@@ -330,9 +330,10 @@ struct MarkerTracker::Impl {
   //    again second_look_after frames later, up to second_look_tries times; such a later look
   //    renames only what the confident look before it renamed: two namings against one, however
   //    sure the start's was.
-  bool looked_again = false;  // judged by a second look since the take last started from scratch
-  int looks = 0;              // second looks tried since then
-  std::vector<std::string> moved_before;  // the names the last unjudged look moved
+  // Second looks tried since the take last started from scratch; second_look_tries once one
+  // has judged the names.
+  int looks = 0;
+  std::vector<std::string> moved_before;  // the names the last confident look moved
   // The margin is a lower quartile of gaps capped at half a spacing: two confident namings of
   // the same face differ by a few hundredths near the cap, which tells neither from the other.
   static constexpr double kMarginNoise = 0.1;
@@ -357,8 +358,8 @@ struct MarkerTracker::Impl {
     }
     const bool confirmed = !moved.empty() && moved == moved_before;
     moved_before = moved;
-    // A start on a frame a fading blur still smears is sure for a wrong reason: the blur washes
-    // out the face's own dark features, the rivals its margin is measured against.
+    // (A start on a frame a fading blur still smears is sure for a wrong reason:
+    // TrackerOptions::second_look_tries.)
     const bool as_sure = id.confidence.margin + kMarginNoise >= identification.margin &&
                          id.confidence.matched + kMatchedNoise >= identification.matched;
     if (moved.empty()) {
@@ -1500,9 +1501,10 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     const long followed = frame - m.started_at;
     if (m.options.second_look_after > 0 && followed > 0 &&
         followed % m.options.second_look_after == 0 && m.start_positions.empty() &&
-        !m.looked_again && m.looks < m.options.second_look_tries) {
+        m.looks < m.options.second_look_tries) {
       ++m.looks;
-      m.looked_again = m.timed("second_look", [&] { return m.second_look(frame); });
+      if (m.timed("second_look", [&] { return m.second_look(frame); }))
+        m.looks = m.options.second_look_tries;
     }
     // (Not on a frame the second look has just named afresh.)
     if (m.options.identity_check_every > 0 && followed % m.options.identity_check_every == 0 &&
@@ -1524,7 +1526,6 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     m.start();
     if (m.started) {
       m.started_at = frame;
-      m.looked_again = false;
       m.looks = 0;
       m.moved_before.clear();
       m.note = m.start_positions.empty() ? "identified, " + describe(m.identification)
