@@ -204,7 +204,7 @@ struct MarkerState {
 
 // How long one named step of a track() call took (wall time).
 struct StepTime {
-  const char* step;  // "pyramid", "lk_round_trip", "snap_dots", ... (marker_tracker.cpp)
+  const char* step;  // "pyramid", "lk_round_trip", "snap_dots", ... (track(), Impl::follow())
   double ms = 0;
 };
 
