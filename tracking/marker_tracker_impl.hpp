@@ -203,15 +203,6 @@ struct MarkerTracker::Impl {
 
   // ---- start of the take ---------------------------------------------------------------
 
-  // 6. (TrackerOptions::second_look_after.) The frame named afresh; where the naming is
-  //    confident, about as sure as the start's (IdentificationConfidence::margin, within
-  //    kMarginNoise), explains about as many dots (within kMatchedNoise) and moves a followed name
-  //    onto another dot, the take starts again here on that naming. Where it only puts names a
-  //    dot's width or so from where they are followed, each of those names goes to whichever of the
-  //    two dots looks more like a dot (placed_by_look). A naming too unsure to judge by is tried
-  //    again second_look_after frames later, up to second_look_tries times; such a later look
-  //    renames only what the confident look before it renamed: two namings against one, however
-  //    sure the start's was.
   // Second looks tried since the take last started from scratch; second_look_tries once one
   // has judged the names.
   int looks = 0;
@@ -223,7 +214,17 @@ struct MarkerTracker::Impl {
   // dots than the start's explains the face worse, however sure its margin (a drive's first
   // jerk smears the mouth's dots onto the lips and teeth).
   static constexpr int kMatchedNoise = 1;
-  // False when the naming was too unsure to judge the followed names by.
+
+  // 6. (TrackerOptions::second_look_after.) The frame named afresh; where the naming is
+  //    confident, about as sure as the start's (IdentificationConfidence::margin, within
+  //    kMarginNoise), explains about as many dots (within kMatchedNoise) and moves a followed name
+  //    onto another dot, the take starts again here on that naming. Where it only puts names a
+  //    dot's width or so from where they are followed, each of those names goes to whichever of the
+  //    two dots looks more like a dot (placed_by_look). A naming too unsure to judge by is tried
+  //    again second_look_after frames later, up to second_look_tries times; such a later look
+  //    renames only what the confident look before it renamed: two namings against one, however
+  //    sure the start's was. Returns false when the naming was too unsure to judge the followed
+  //    names by.
   bool second_look(long frame);
 
   // "a" or "a, ...": a list of names in a frame's note.
@@ -257,7 +258,6 @@ struct MarkerTracker::Impl {
   std::vector<std::pair<cv::Point2d, cv::Point2d>> find_at_start_positions(
       const std::vector<TagDetection>& tags);
 
-  // Every dot and tag in the frame, identified (identify.hpp).
   // The dots found on the whole frame named (identify.hpp). With a landmark model at hand,
   // the layout's arrangement alone is not enough to start on: on a real face it names the
   // lower face a row off (the dots of a smile, a long jaw). The face is found on a later frame
