@@ -31,7 +31,6 @@ constexpr double kLashWidth = 1.0;  // the upper lash line's width at the eye's 
 constexpr double kBrowInnerX = 15.0, kBrowMidX = 31.5, kBrowOuterX = 47.0;  // 4.1, 4.3, 4.5
 constexpr double kBrowInner = 6.0, kBrowOuter = 3.0;  // the brow's height at its ends
 constexpr double kMouthY = -32.0, kMouthHW = 23.5;    // mouth line, inner corners at +-kMouthHW
-constexpr double kMouthOpen = 0.3;                    // neutral lips nearly touch: a dark line
 constexpr double kOuterCornerX = 25.5;
 // Past the lips' outer corners the skin moves with the corner, wholly from kCornerSkinX either
 // side and partly from kCornerShareX, as far as kCornerReach from it.
@@ -509,14 +508,8 @@ FaceModel generate_head(const HeadOptions& options) {
         const bool down = side == Side::Lower || (side == Side::None && de < 0);
         y += up ? h_eye * g : down ? -h_eye * g : 0.0;
       }
-      const double dm = row.y - kMouthY;
-      const double h_mouth = front ? kMouthOpen * mouth_aperture(ax0) : 0.0;
-      if (h_mouth > 0 && std::abs(dm) < 4.0) {
-        const double g = 1 - std::abs(dm) / 4.0;
-        const bool up = side == Side::Upper || (side == Side::None && dm > 0);
-        const bool down = side == Side::Lower || (side == Side::None && dm < 0);
-        y += up ? h_mouth * g : down ? -h_mouth * g : 0.0;
-      }
+      // The lips are not parted: MPEG-4's neutral face has the mouth closed, lips in contact
+      // (a gap of a fraction of a millimetre showed the teeth as a white line between them).
     }
     const V3 p = cap ? shape.base(y, phi, row.s, kCapY) : shape.surface(y, phi, 1.0, y);
     const int v = b.add(p, skin_colour(p, phi, cap ? row.y : y), side);
@@ -667,6 +660,34 @@ FaceModel generate_head(const HeadOptions& options) {
   auto [right_eye, right_pupil] = eyeball(-1);
   m.parts.left_eyeball = left_eye;
   m.parts.right_eyeball = right_eye;
+
+  // --- Eye sockets: an inward-facing bowl behind each eyeball, open toward the face. The lids'
+  // slit reaches past the eyeball's edge at the corners, where it would show the head's inside
+  // as a dark wedge; the bowl shows the white in the lids' shade there instead, and the pink of
+  // the caruncle toward the nose.
+  const Eigen::Vector3f shaded_white(0.55f, 0.46f, 0.44f), caruncle(0.78f, 0.50f, 0.48f);
+  for (double sign : {+1.0, -1.0}) {
+    const V3 c(sign * kEyeX, kEyeY, shape.eye_z);
+    const V3 r(kEyeR + 4.0, kEyeR + 1.0, kEyeR + 1.0);
+    std::vector<double> angles;
+    for (int i = 0; i < 5; ++i) angles.push_back(kPi / 3 + (2 * kPi / 3 - 0.2) * i / 5);
+    const LatLong bowl = lat_long(
+        b, angles, segs / 2,
+        [&](double a, double t) {
+          // The rim comes forward toward the nose, where a turned head looks in past the
+          // eyeball; on the outer side it stays behind the skin.
+          const double rim = kPi / 2 - kPi / 6 * smoothstep(0.0, -0.7, sign * std::cos(t));
+          a = rim + (a - kPi / 3) * (kPi - rim) / (2 * kPi / 3);
+          return V3(c.x() + r.x() * std::sin(a) * std::cos(t),
+                    c.y() + r.y() * std::sin(a) * std::sin(t), c.z() + r.z() * std::cos(a));
+        },
+        [&](std::size_t) { return shaded_white; }, kEye, c, true, kPi / 3);
+    for (int v : bowl.vertices) {
+      const double toward_nose = (kEyeX - std::abs(b.pos(v).x())) / kEyeR;
+      b.m.colors[static_cast<std::size_t>(v)] =
+          mix(shaded_white, caruncle, smoothstep(0.3, 0.9, toward_nose));
+    }
+  }
 
   // --- Ears: a shell on each side of the head, its outer face dished into a bowl (the concha)
   // inside a rim (the helix), tilted back, flaring out toward the back; the inner face lies in

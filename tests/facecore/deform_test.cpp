@@ -270,10 +270,19 @@ int mirror_vertex(int v) {
                 static_cast<int>(i));
     return m;
   }();
+  // Vertices can share a place (the upper and lower lips' copies meet at rest): the k-th of
+  // those at v's place mirrors the k-th at the mirrored place, the generator adding both sides
+  // in the same order (and a multimap keeps equal keys in insertion order).
   const Eigen::Vector3f& q = head().positions[static_cast<std::size_t>(v)];
-  const auto it =
-      index.find({std::lround(-q.x() * 1e3), std::lround(q.y() * 1e3), std::lround(q.z() * 1e3)});
-  return it == index.end() ? -1 : it->second;
+  const auto here = index.equal_range(
+      {std::lround(q.x() * 1e3), std::lround(q.y() * 1e3), std::lround(q.z() * 1e3)});
+  long k = 0;
+  for (auto it = here.first; it != here.second && it->second != v; ++it) ++k;
+  auto there = index.equal_range(
+      {std::lround(-q.x() * 1e3), std::lround(q.y() * 1e3), std::lround(q.z() * 1e3)});
+  for (; there.first != there.second; ++there.first)
+    if (k-- == 0) return there.first->second;
+  return -1;
 }
 
 TEST(Deformer, LeftAndRightTwinFapsMoveMirrorImageVertices) {
