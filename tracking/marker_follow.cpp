@@ -126,7 +126,7 @@ void MarkerTracker::Impl::snap_dots(const Flow& f) {
     s.valid = true;
     s.position = d->center;
     recent_diameter[i] = 0.7 * recent_diameter[i] + 0.3 * d->diameter;
-    recent_elongation[i] = d->elongation;
+    recent_elongation[i] = d->elongation, last_diameter[i] = d->diameter;
     usual_look[i] = 0.8 * usual_look[i] + 0.2 * unlike_a_dot(*d);
     s.quality =
         std::clamp(d->contrast / reference_contrast[i], 0.0, 1.0) * (1 - 0.5 * fb / max_fb_error());

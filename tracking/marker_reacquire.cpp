@@ -207,7 +207,7 @@ bool MarkerTracker::Impl::looks_like_itself(size_t i, const Dot& d) const {
 void MarkerTracker::Impl::found_on(size_t i, const Dot& d) {
   MarkerState& s = states[i];
   s.valid = true, s.position = d.center, s.lost_reason = LostReason::None;
-  recent_diameter[i] = d.diameter, recent_elongation[i] = d.elongation;
+  recent_diameter[i] = last_diameter[i] = d.diameter, recent_elongation[i] = d.elongation;
   s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
   if (options.start_place_when_found && !reference_seen[i]) start_where_found(i);
 }

@@ -187,7 +187,7 @@ void MarkerTracker::Impl::scale_to_dots(
     if (!states[i].spec->is_tag() && reference_contrast[i] <= 0)
       reference_contrast[i] = typical_contrast, reference_diameter[i] = typical_diameter,
       usual_look[i] = typical_look;
-  recent_diameter = reference_diameter;
+  recent_diameter = last_diameter = reference_diameter;
   recent_elongation.assign(states.size(), 1);
   face_scale = 1;
 }

@@ -155,6 +155,8 @@ LostReason MarkerTracker::Impl::dot_check(size_t i, const Dot& d, bool followed)
   if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
     return LostReason::Contrast;
   if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
+  if (followed && !(d.diameter >= options.min_recent_size * last_diameter[i]))
+    return LostReason::Shrunk;
   if (!(d.diameter <= (at_eye(i) && !followed ? largest_found(i) : 2.0 * reference_diameter[i])))
     return LostReason::Growth;
   return LostReason::None;
@@ -274,6 +276,7 @@ void TrackerOptions::validate() const {
       .positive("max_fb_error", max_fb_error)
       .positive("max_snap", max_snap)
       .not_negative("min_contrast_ratio", min_contrast_ratio)
+      .not_negative("min_recent_size", min_recent_size)
       .not_negative("tag_margin", tag_margin)
       .not_negative("tag_decimate_above_px", tag_decimate_above_px)
       .positive("tag_redetect_every", tag_redetect_every)
@@ -313,6 +316,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, max_fb_error),
       ROSTRO_NAMED_OPTION(O, max_snap),
       ROSTRO_NAMED_OPTION(O, min_contrast_ratio),
+      ROSTRO_NAMED_OPTION(O, min_recent_size),
       ROSTRO_NAMED_OPTION(O, tag_margin),
       ROSTRO_NAMED_OPTION(O, tag_decimate_above_px),
       ROSTRO_NAMED_OPTION(O, tag_redetect_every),

@@ -339,6 +339,7 @@ struct MarkerTracker::Impl {
   double face_scale = 1;                  // the face's size now over its size at the start
   std::vector<double> recent_diameter;    // per dot, smoothed over its last measurements
   std::vector<double> recent_elongation;  // per dot, when last measured
+  std::vector<double> last_diameter;      // per dot, when last measured
   // Per dot, how unlike a dot it has looked while followed (unlike_a_dot), smoothed over its
   // measurements: from the start's, then each frame it is followed.
   std::vector<double> usual_look;

@@ -156,15 +156,21 @@ TEST(EyeDots, SteeplySeenInnerCornerOfLargeDotsIsKept) {
   ASSERT_GT(dot->elongation, 3.0) << "the drawing is not steep enough to test the limit";
   ASSERT_LT(dot->elongation, 4.0);
 
-  // Started on the frontal face, then the corner seen steeply.
+  // Started on the frontal face, then the corner turning steep over eight frames (as a head
+  // turning at about 100 degrees a second: a dot that shrinks much faster is dropped,
+  // TrackerOptions::min_recent_size), then held there.
   auto inner_corner_after_turn = [&](const TrackerOptions& options) {
     MarkerTracker tracker(layout, options);
     start_on_drawing(tracker, layout, [&](const MarkerSpec& m) { return to_image(m.frontal()); });
     MarkerObservation last;
-    for (int k = 0; k < 6; ++k)
-      for (const MarkerObservation& o :
-           tracker.track(k < 2 ? frontal : turned, k, k / 25.0).markers)
+    for (int k = 0; k < 14; ++k) {
+      LeftEye turning;
+      const double t = std::clamp((k - 1) / 8.0, 0.0, 1.0);
+      turning.inner_corner_width = (1 - t) * LeftEye().inner_corner_width + t * 0.24;
+      const cv::Mat image = k < 2 ? frontal : k >= 9 ? turned : draw_face(layout, turning);
+      for (const MarkerObservation& o : tracker.track(image, k, k / 25.0).markers)
         if (o.marker == "eye_l_in") last = o;
+    }
     return last;
   };
   const MarkerObservation kept = inner_corner_after_turn({});

@@ -214,6 +214,56 @@ TEST(Tracker, EveryLostMarkerNamesTheRuleThatDroppedIt) {
   EXPECT_GT(hidden, 0);
 }
 
+// An edge that cuts into a followed dot (a hand arriving) shrinks its blob and pulls its
+// centre away from the bite: the dot is dropped for those frames (min_recent_size), where
+// without the rule it is reported off its place.
+TEST(Tracker, ADotAnEdgeCutsIntoIsDroppedNotReportedOffItsPlace) {
+  const MarkerLayout layout = default_layout();
+  SceneOptions o;
+  o.motion_px = 0, o.expression_px = 0;  // still dots, so the edge's place is known
+  o.dot_diameter_px = 10;
+  std::map<std::string, Truth> at_rest;
+  SyntheticScene(layout, o).render(0, at_rest);
+  const cv::Point2d dot = at_rest.at("cheek_l").position;
+  // The occluder's left edge 0.15 of a diameter right of the centre: a third of the dot covered.
+  o.occluders = {{{dot.x + 0.15 * o.dot_diameter_px, dot.y - 20, 40, 40}, 10, 12}};
+  struct Seen {
+    int dropped_as_shrunk = 0, reported = 0;
+    double worst_px = 0;
+  };
+  auto follow = [&](double min_recent_size) {
+    TrackerOptions options = options_for(o);
+    options.min_recent_size = min_recent_size;
+    SyntheticScene scene(layout, o);
+    MarkerTracker tracker(layout, options);
+    Seen seen;
+    for (int k = 0; k <= 12; ++k) {
+      std::map<std::string, Truth> truth;
+      const TrackedFrame tf = tracker.track(scene.render(k, truth), k, k / 30.0);
+      if (k < 10) continue;
+      EXPECT_FALSE(truth.at("cheek_l").visible) << "frame " << k;
+      EXPECT_FALSE(truth.at("cheek_l").hidden) << "frame " << k;
+      for (const MarkerState& s : tracker.states())
+        if (s.spec->id == "cheek_l" && s.lost_reason == LostReason::Shrunk)
+          ++seen.dropped_as_shrunk;
+      for (const MarkerObservation& m : tf.markers)
+        if (m.marker == "cheek_l" && m.valid) {
+          ++seen.reported;
+          seen.worst_px = std::max(seen.worst_px, cv::norm(m.position - dot));
+        }
+    }
+    return seen;
+  };
+  const Seen with_rule = follow(TrackerOptions().min_recent_size);
+  EXPECT_EQ(with_rule.reported, 0);
+  EXPECT_EQ(with_rule.dropped_as_shrunk, 3);
+  const Seen without = follow(0);
+  std::printf("cut into by an edge, the dot reported up to %.2f px off without the rule\n",
+              without.worst_px);
+  EXPECT_EQ(without.reported, 3);
+  EXPECT_GT(without.worst_px, 0.5);
+}
+
 TEST(Tracker, EachLostReasonHasItsOwnName) {
   std::set<std::string> names;
   for (int k = 0; k < kLostReasonCount; ++k) names.insert(to_string(static_cast<LostReason>(k)));
