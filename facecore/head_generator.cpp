@@ -242,6 +242,34 @@ double hairline(double phi) {
   return curve(k, std::abs(phi));
 }
 
+// Hair stands off the skull, along the way out from the head's axis (up in the cap): nothing at
+// the hairline, rising behind it to kHairTop on the crown, kHairSide above the ears and kHairBack
+// at the back of the head, thinning toward the nape's hairline, clear of the ears, and lying
+// flat over the temples below the top of the brows (as short hair does there; standing out
+// beside the eyes it moved dlib's landmarks enough to doubt the start of a turning take). Above
+// the brow the first kHairFlat millimetres behind the hairline stay flat, where a capture
+// headband presses the hair down (the synthetic layout's tags lie there). The skull's top under
+// it is 11.4, the hair's 11.5: portraits are framed to the skull's, so hair does not shrink the
+// face in the image.
+constexpr double kHairTop = 10.0, kHairSide = 8.0, kHairBack = 14.0, kHairFlat = 22.0;
+constexpr double kEarPhi = 1.72;  // the ears' centre, round the head from the front (rad)
+V3 hair_lift(const V3& p, double phi, double shape_y) {
+  const double above = shape_y - hairline(phi);
+  if (above <= 0) return V3::Zero();
+  const V3 out =
+      V3(p.x(), std::max(0.0, p.y() - 30.0), p.z() - curve(kCentreZ, std::min(shape_y, kCapY)))
+          .normalized();
+  const double facing = out.z() / std::max(1e-9, std::hypot(out.x(), out.z()));  // 1 front
+  const double back = smoothstep(0.0, -0.8, facing);
+  const double flat = kHairFlat * smoothstep(0.2, 0.8, facing) * (1 - out.y() * out.y());
+  const double rise = smoothstep(flat, flat + 20 + 20 * back, above);
+  const double ear =
+      smoothstep(1.05, 1.35, std::hypot((p.y() - kEarY) / 29, (std::abs(phi) - kEarPhi) * 76 / 15));
+  const double around = kHairSide + (kHairBack - kHairSide) * back;
+  const double temple = back + (1 - back) * smoothstep(40, 70, p.y());
+  return rise * ear * temple * (around + (kHairTop - around) * out.y() * out.y()) * out;
+}
+
 // The eyebrow's upper edge at |x| = ax. MPEG-4's 4.1, 4.3 and 4.5 lie on it: the inner end, the
 // uppermost point and the outer end of the brow, which hangs below it.
 double brow_top_y(double ax) {
@@ -511,13 +539,15 @@ FaceModel generate_head(const HeadOptions& options) {
       // The lips are not parted: MPEG-4's neutral face has the mouth closed, lips in contact
       // (a gap of a fraction of a millimetre showed the teeth as a white line between them).
     }
-    const V3 p = cap ? shape.base(y, phi, row.s, kCapY) : shape.surface(y, phi, 1.0, y);
+    V3 p = cap ? shape.base(y, phi, row.s, kCapY) : shape.surface(y, phi, 1.0, y);
+    p += hair_lift(p, phi, cap ? row.y : y);
     const int v = b.add(p, skin_colour(p, phi, cap ? row.y : y), side);
     b.m.texcoords[static_cast<std::size_t>(v)] = skin_texcoord(phi, row.y);
     return v;
   };
 
-  const int pole = b.add(V3(0, kCrownY, curve(kCentreZ, kCapY)), kHairColour);
+  const V3 crown(0, kCrownY, curve(kCentreZ, kCapY));
+  const int pole = b.add(crown + hair_lift(crown, 0, kCrownY), kHairColour);
   skin.vertices.push_back(pole);
   skin.grid.assign(static_cast<std::size_t>(skin.rows),
                    std::vector<int>(static_cast<std::size_t>(cols), -1));
@@ -833,6 +863,10 @@ FaceModel generate_head(const HeadOptions& options) {
     }
   }
 
+  // --- The top of the skull (11.4), under the hair, an isolated vertex; the pole above it, the
+  // hair's top, is 11.5 (MPEG-4's "hair thickness over 11.4").
+  const int skull_top = b.add(crown, kHairColour);
+
   // --- Head rotation centre (7.1): top of the spine, an isolated vertex.
   const int spine = b.add(V3(0, -35, -25), kSkinColour);
   m.head_pivot = V3(0, -35, -25);
@@ -928,7 +962,8 @@ FaceModel generate_head(const HeadOptions& options) {
   fp[{11, 1}] =
       nearest(front_skin, V3(0, hairline(0), 0), xy, [&](int v) { return b.pos(v).x() == 0; });
   fp[{11, 3}] = nearest(front_skin, V3(42, hairline(0.7), 0), xy);
-  fp[{11, 4}] = pole;
+  fp[{11, 4}] = skull_top;
+  fp[{11, 5}] = pole;
   fp[{11, 6}] = nearest(skin.vertices, V3(0, 30, -200), V3(1, 1, 0.2),
                         [&](int v) { return b.pos(v).x() == 0; });
   {  // The left ear: its top, back and lobe; where it meets the head above and below.

@@ -10,16 +10,23 @@ constexpr float kSkin[3] = {0.87f, 0.68f, 0.58f};
 }  // namespace
 
 Bounds portrait_bounds(const FaceModel& model, const Bounds& full, float below_chin) {
-  const FeaturePointId chin{2, 1};
+  const FeaturePointId chin{2, 1}, skull_top{11, 4};
   if (!model.has_feature_point(chin)) return full;
   const auto chin_y = static_cast<float>(model.feature_point(chin).y());
   if (chin_y <= full.min[1] || chin_y >= full.max[1]) return full;
-  const float bottom = std::max(full.min[1], chin_y - below_chin * (full.max[1] - chin_y));
+  // Up to the top of the skull where the model has it, not the hair over it: the same face
+  // fills the same share of the frame whatever the hair's volume (the camera's margin leaves
+  // room for the hair above the box).
+  float top = full.max[1];
+  if (model.has_feature_point(skull_top))
+    top = std::clamp(static_cast<float>(model.feature_point(skull_top).y()), chin_y, full.max[1]);
+  const float bottom = std::max(full.min[1], chin_y - below_chin * (top - chin_y));
   std::vector<float> above;  // the vertices above the bottom line, flattened
   for (const Eigen::Vector3f& p : model.positions)
     if (p.y() >= bottom) above.insert(above.end(), {p.x(), p.y(), p.z()});
   Bounds b = bounds_of(above);
   b.min[1] = bottom;
+  b.max[1] = top;
   return b;
 }
 

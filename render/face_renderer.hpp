@@ -26,7 +26,9 @@ RenderMesh to_render_mesh(const FaceModel& model);
 
 // The bounds of the neutral head above a line `below_chin` x (top - chin) below the chin, so
 // that a long neck or shoulders do not shrink the face: a portrait framing (0.12), or with
-// more of the neck and shoulders. Models without a chin point (2.1) keep their full bounds.
+// more of the neck and shoulders. The top is the skull's (11.4) where the model has it, so
+// that hair does not shrink the face either. Models without a chin point (2.1) keep their full
+// bounds.
 Bounds portrait_bounds(const FaceModel& model, const Bounds& full, float below_chin = 0.12f);
 
 // Flattens deformed positions into the renderer's x, y, z list.

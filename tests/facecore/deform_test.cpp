@@ -439,8 +439,8 @@ TEST(Deformer, NormalsAreUnitAndPointOutOfTheFace) {
   for (const Eigen::Vector3f& n : normals) ASSERT_NEAR(n.norm(), 1.0f, 1e-4f);
   EXPECT_GT(normals[static_cast<std::size_t>(head().feature_points.at({9, 3}))].z(),
             0.5f);  // nose tip
-  EXPECT_GT(normals[static_cast<std::size_t>(head().feature_points.at({11, 4}))].y(),
-            0.5f);  // skull top
+  EXPECT_GT(normals[static_cast<std::size_t>(head().feature_points.at({11, 5}))].y(),
+            0.5f);  // the hair's top
 }
 
 TEST(HeadGenerator, HasTheFeaturePointsTheFapsAndFapuNeed) {
