@@ -43,6 +43,8 @@ constexpr double kFootY = kNeckY - 416 * (kCrownY - kNeckY) / 1024;
 // the shoulders below kTurnFootY stay.
 constexpr double kTurnTopY = -95.0, kTurnFootY = -185.0;
 constexpr double kEarY = 19.0;  // the ears' centre height
+// The ears' half sizes: out from the head, up, front to back.
+constexpr double kEarOut = 7.0, kEarUp = 29.0, kEarBack = 15.0;
 
 double clamp01(double t) {
   return std::clamp(t, 0.0, 1.0);
@@ -252,7 +254,8 @@ double hairline(double phi) {
 // it is 11.4, the hair's 11.5: portraits are framed to the skull's, so hair does not shrink the
 // face in the image.
 constexpr double kHairTop = 10.0, kHairSide = 8.0, kHairBack = 14.0, kHairFlat = 22.0;
-constexpr double kEarPhi = 1.72;  // the ears' centre, round the head from the front (rad)
+// The ears' centre, round the head from the front (rad), and the head's radius there (mm).
+constexpr double kEarPhi = 1.72, kEarRadius = 76.0;
 V3 hair_lift(const V3& p, double phi, double shape_y) {
   const double above = shape_y - hairline(phi);
   if (above <= 0) return V3::Zero();
@@ -263,8 +266,9 @@ V3 hair_lift(const V3& p, double phi, double shape_y) {
   const double back = smoothstep(0.0, -0.8, facing);
   const double flat = kHairFlat * smoothstep(0.2, 0.8, facing) * (1 - out.y() * out.y());
   const double rise = smoothstep(flat, flat + 20 + 20 * back, above);
-  const double ear =
-      smoothstep(1.05, 1.35, std::hypot((p.y() - kEarY) / 29, (std::abs(phi) - kEarPhi) * 76 / 15));
+  const double ear = smoothstep(
+      1.05, 1.35,
+      std::hypot((p.y() - kEarY) / kEarUp, (std::abs(phi) - kEarPhi) * kEarRadius / kEarBack));
   const double around = kHairSide + (kHairBack - kHairSide) * back;
   const double temple = back + (1 - back) * smoothstep(40, 70, p.y());
   return rise * ear * temple * (around + (kHairTop - around) * out.y() * out.y()) * out;
@@ -722,7 +726,7 @@ FaceModel generate_head(const HeadOptions& options) {
   // --- Ears: a shell on each side of the head, its outer face dished into a bowl (the concha)
   // inside a rim (the helix), tilted back, flaring out toward the back; the inner face lies in
   // the head. The top of the left ear is 10.1, its back 10.3, its lobe 10.5.
-  const V3 ear_r(7.0, 29.0, 15.0);  // out from the head, up, front to back
+  const V3 ear_r(kEarOut, kEarUp, kEarBack);
   auto ear = [&](double side) {
     const V3 c(side * (curve(kHalfWidth, kEarY) + 3.0), kEarY, curve(kCentreZ, kEarY) - 12.0);
     const double tilt = 12.0 * kPi / 180;  // the top leans back
