@@ -5,12 +5,14 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <set>
 
 #include "facecore/deformer.hpp"
 #include "facecore/error.hpp"
+#include "facecore/expression_library.hpp"
 #include "facecore/head_generator.hpp"
 
 namespace rostro {
@@ -470,6 +472,41 @@ TEST(HeadGenerator, ResolutionFollowsTheRequestedVertexCount) {
   EXPECT_THROW(generate_head(HeadOptions{100}), InputError);
 }
 
+// The sharpest turn between two neighbouring triangles whose vertices all `keep`, in degrees
+// more than the neutral face turns there, with the number of edges checked: a fold where the
+// deformed skin creases.
+std::pair<double, int> sharpest_added_bend(const std::vector<Eigen::Vector3f>& deformed,
+                                           const std::function<bool(int)>& keep) {
+  const std::vector<Eigen::Vector3f>& neutral = head().positions;
+  auto normal = [](const std::vector<Eigen::Vector3f>& p, const Eigen::Vector3i& t) {
+    const auto& a = p[static_cast<std::size_t>(t[0])];
+    return (p[static_cast<std::size_t>(t[1])] - a)
+        .cross(p[static_cast<std::size_t>(t[2])] - a)
+        .normalized()
+        .eval();
+  };
+  std::map<std::pair<int, int>, std::vector<std::size_t>> edges;
+  for (std::size_t i = 0; i < head().triangles.size(); ++i) {
+    const Eigen::Vector3i& t = head().triangles[i];
+    if (!keep(t[0]) || !keep(t[1]) || !keep(t[2])) continue;
+    for (int k = 0; k < 3; ++k) edges[std::minmax(t[k], t[(k + 1) % 3])].push_back(i);
+  }
+  double sharpest = 0;
+  int checked = 0;
+  for (const auto& [edge, triangles] : edges) {
+    if (triangles.size() != 2) continue;
+    const Eigen::Vector3i& s = head().triangles[triangles[0]];
+    const Eigen::Vector3i& t = head().triangles[triangles[1]];
+    auto angle = [&](const std::vector<Eigen::Vector3f>& p) {
+      return std::acos(std::clamp(normal(p, s).dot(normal(p, t)), -1.0f, 1.0f)) * 180 /
+             std::numbers::pi;
+    };
+    sharpest = std::max(sharpest, angle(deformed) - angle(neutral));
+    ++checked;
+  }
+  return {sharpest, checked};
+}
+
 TEST(HeadGenerator, TheSkinPastTheMouthCornersFollowsThemWithoutAFold) {
   // A full smile (joy's stretch, a little more raise): both outer corners about 10 mm out and
   // up. The skin past the corners bends with them, nowhere folding: a region that ended there
@@ -483,39 +520,33 @@ TEST(HeadGenerator, TheSkinPastTheMouthCornersFollowsThemWithoutAFold) {
   deformer().deform(smile, out);
   const std::vector<Eigen::Vector3f>& neutral = head().positions;
   const float corner_x = neutral[static_cast<std::size_t>(head().feature_points.at({8, 3}))].x();
-  auto past_a_corner = [&](int v) {
+  const auto [sharpest, checked] = sharpest_added_bend(out, [&](int v) {
     const Eigen::Vector3f& p = neutral[static_cast<std::size_t>(v)];
     return std::abs(p.x()) > corner_x && p.z() > 50 && p.y() > -60 && p.y() < -10;
-  };
-  auto normal = [](const std::vector<Eigen::Vector3f>& p, const Eigen::Vector3i& t) {
-    const auto& a = p[static_cast<std::size_t>(t[0])];
-    return (p[static_cast<std::size_t>(t[1])] - a)
-        .cross(p[static_cast<std::size_t>(t[2])] - a)
-        .normalized()
-        .eval();
-  };
-  // The triangles on each edge past the corners.
-  std::map<std::pair<int, int>, std::vector<std::size_t>> edges;
-  for (std::size_t i = 0; i < head().triangles.size(); ++i) {
-    const Eigen::Vector3i& t = head().triangles[i];
-    if (!past_a_corner(t[0]) || !past_a_corner(t[1]) || !past_a_corner(t[2])) continue;
-    for (int k = 0; k < 3; ++k) edges[std::minmax(t[k], t[(k + 1) % 3])].push_back(i);
-  }
-  double sharpest = 0;  // degrees more than the neutral face turns there
-  int checked = 0;
-  for (const auto& [edge, triangles] : edges) {
-    if (triangles.size() != 2) continue;
-    const Eigen::Vector3i& s = head().triangles[triangles[0]];
-    const Eigen::Vector3i& t = head().triangles[triangles[1]];
-    auto angle = [&](const std::vector<Eigen::Vector3f>& p) {
-      return std::acos(std::clamp(normal(p, s).dot(normal(p, t)), -1.0f, 1.0f)) * 180 /
-             std::numbers::pi;
-    };
-    sharpest = std::max(sharpest, angle(out) - angle(neutral));
-    ++checked;
-  }
+  });
   ASSERT_GT(checked, 100);
   EXPECT_LT(sharpest, 30);
+}
+
+TEST(HeadGenerator, RoundedVisemesDrawTheLipsInWithoutACrease) {
+  // "oh" and "uh" (visemes 13 and 14) draw the corners in and push the lips out. The upper
+  // lip's outer third and the skin above it toward the nose bend with them: drawn in by 260-280
+  // MW (14 mm a corner, half the mouth's width) the lip's outer top turned 27 degrees more than
+  // on the neutral face there, a dark crease from each corner toward the nose and a mouth with
+  // square ends; the library's 200-220 with the lips pushed farther out turn it 14.
+  const ExpressionLibrary library = ExpressionLibrary::load_default();
+  const std::vector<Eigen::Vector3f>& neutral = head().positions;
+  for (int viseme : {13, 14}) {
+    std::vector<Eigen::Vector3f> out;
+    deformer().deform(library.viseme(viseme), out);
+    const auto [sharpest, checked] = sharpest_added_bend(out, [&](int v) {
+      const Eigen::Vector3f& p = neutral[static_cast<std::size_t>(v)];
+      return std::abs(p.x()) > 14 && std::abs(p.x()) < 30 && p.z() > 50 && p.y() > -27 &&
+             p.y() < -10;
+    });
+    ASSERT_GT(checked, 50) << viseme;
+    EXPECT_LT(sharpest, 20) << ExpressionLibrary::viseme_name(viseme);
+  }
 }
 
 TEST(HeadGenerator, EyelidsCloseTheEye) {
