@@ -238,9 +238,14 @@ Eigen::Vector3f mix(const Eigen::Vector3f& a, const Eigen::Vector3f& b, double t
   return a + static_cast<float>(clamp01(t)) * (b - a);
 }
 
+// The hair's lower edge (y, mm) round the head from the front (phi, rad): the forehead, the
+// temples' corners, a sideburn down in front of the ear to its middle (kEarY; the ear's front
+// edge is at phi 1.52), round behind the ear and down to the nape. Without the sideburn the
+// edge ran straight from the temple to behind the ear, a cap above bare sides of the head.
 double hairline(double phi) {
   static const std::vector<std::pair<double, double>> k = {
-      {0.0, 76}, {0.5, 72}, {0.95, 58}, {1.35, 40}, {1.7, 20}, {2.4, -30}, {3.15, -45}};
+      {0.0, 76},  {0.5, 72},  {0.95, 58}, {1.22, 50}, {1.42, 14},
+      {1.55, 10}, {1.75, 12}, {2.05, 0},  {2.4, -30}, {3.15, -45}};
   return curve(k, std::abs(phi));
 }
 
