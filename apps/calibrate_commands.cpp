@@ -18,6 +18,7 @@
 #include "capture/open_source.hpp"
 #include "facecore/error.hpp"
 #include "tracking/layout.hpp"
+#include "tracking/name_corrections.hpp"
 
 namespace rostro::app {
 
@@ -79,7 +80,7 @@ void run_calibrate_actor(const ActorArgs& a) {
     const tracking::TrackedFrame tracked =
         tracker->track(frame->image, static_cast<long>(frames.size()), frame->timestamp_s);
     // The neutral window starts where the face is first found.
-    if (tracker->started()) frames.push_back(tracked);
+    if (tracker->started()) tracking::append_corrected(frames, tracked);
     if (++read > max_read && frames.empty()) break;
   }
   if (frames.empty())

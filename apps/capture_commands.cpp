@@ -28,6 +28,7 @@
 #include "render/preview.hpp"
 #include "render/video_writer.hpp"
 #include "tracking/layout.hpp"
+#include "tracking/name_corrections.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
@@ -54,23 +55,44 @@ class TrackedInput {
       size_ = {w, h};
     } else {
       tracker_ = a.face.make();
+      held_ = tracking::CorrectionWindow(tracker_->correction_horizon());
       source_ = capture::open_frame_source(a.source);
       size_ = source_->frame_size();
       fps_ = source_->nominal_fps();
       total_ = source_->frame_count();
     }
   }
-  // `view`, when given, receives the camera image with the tracker's markers drawn on it.
+  // `view`, when given, receives the camera image with the tracker's markers drawn on it. The
+  // tracker's frames come a few behind its images, held until no later frame can correct
+  // their names (tracking/name_corrections.hpp); the take's end hands them all out.
   bool next(tracking::TrackedFrame& out, cv::Mat* view = nullptr) {
-    if (reader_) return reader_->next(out);
-    auto frame = source_->next();
-    if (!frame) return false;
-    out = tracker_->track(frame->image, index_++, frame->timestamp_s);
-    if (view != nullptr) {
-      *view = frame->image.clone();
-      tracker_->draw(*view, out.frame);
+    if (reader_) return !stopped_ && reader_->next(out);
+    while (ready_.empty() && !stopped_) {
+      auto frame = source_->next();
+      if (!frame) {
+        stop();
+        break;
+      }
+      tracking::TrackedFrame tracked = tracker_->track(frame->image, index_++, frame->timestamp_s);
+      if (view != nullptr) {
+        views_.push_back(frame->image.clone());
+        tracker_->draw(views_.back(), tracked.frame);
+      }
+      for (auto& f : held_.push(std::move(tracked))) ready_.push_back(std::move(f));
+    }
+    if (ready_.empty()) return false;
+    out = std::move(ready_.front());
+    ready_.pop_front();
+    if (view != nullptr && !views_.empty()) {
+      *view = views_.front();
+      views_.pop_front();
     }
     return true;
+  }
+  // No more images are read: next() hands out the frames still held (a take stopped early).
+  void stop() {
+    stopped_ = true;
+    for (auto& f : held_.flush()) ready_.push_back(std::move(f));
   }
   const tracking::MarkerLayout& layout() const { return tracker_ ? tracker_->layout() : layout_; }
   // False while a tracker has not found the face yet (markers identified, a face detected).
@@ -89,6 +111,10 @@ class TrackedInput {
   std::unique_ptr<capture::FrameSource> source_;
   tracking::MarkerLayout layout_;  // of a tracks CSV
   std::unique_ptr<tracking::FaceTracker> tracker_;
+  tracking::CorrectionWindow held_{0};
+  std::deque<tracking::TrackedFrame> ready_;  // corrected, not yet handed out
+  std::deque<cv::Mat> views_;                 // the images of the frames held and ready
+  bool stopped_ = false;
   cv::Size size_;
   double fps_ = 0;
   std::int64_t total_ = -1;
@@ -218,17 +244,25 @@ void run_capture(const CaptureArgs& a) {
   };
   tracking::TrackedFrame f;
   cv::Mat view;
-  while (!interrupt.requested() && !failure) {
+  // Takes the input's next frame into the take; false at its end or on a failure.
+  const auto take_next = [&] {
     try {
-      if (!input.next(f, want_views ? &view : nullptr)) break;
+      if (!input.next(f, want_views ? &view : nullptr)) return false;
       if (tracks) tracks->write(f);
     } catch (const InputError& e) {
       failure = e.what();
-      break;
+      return false;
     }
     ++pushed;
     if (want_views) views.push_back(view);
     guarded_write(take.push(f));
+    return true;
+  };
+  while (!interrupt.requested() && !failure && take_next()) {
+  }
+  // Stopped early (a signal, a camera gone): the frames the input still holds are the take's.
+  input.stop();
+  while (!output_failed && take_next()) {
   }
   if (pushed == 0 && !failure) {
     if (interrupt.requested()) interrupt.throw_if_requested();

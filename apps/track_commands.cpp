@@ -21,6 +21,7 @@
 #include "tracking/identify.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
+#include "tracking/name_corrections.hpp"
 #include "tracking/overlay.hpp"
 #include "tracking/tracks_csv.hpp"
 
@@ -99,17 +100,27 @@ void run_track(const TrackArgs& args) {
   long valid_sum = 0, marker_sum = 0;
   // A signal stops the run; the tracks of every frame so far are kept.
   InterruptScope interrupt;
+  // The last frames wait for the names the tracker may still correct in them.
+  tracking::CorrectionWindow held(tracker->correction_horizon());
+  const auto write = [&](const std::vector<tracking::TrackedFrame>& ready) {
+    for (const tracking::TrackedFrame& t : ready) {
+      writer.write(t);
+      for (const auto& m : t.markers) valid_sum += m.valid, ++marker_sum;
+    }
+  };
   while ((args.max_frames <= 0 || frame < args.max_frames) && !interrupt.requested()) {
     auto f = source->next();
     if (!f) break;
     const tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
-    writer.write(tracked);
+    write(held.push(tracked));
     if (!tracker->started()) ++never_started;
     // The identification is reported at the end; a check during the take that renamed a dot,
     // as it happens.
     if (!tracked.identification.empty() && tracked.identification.starts_with("identities"))
       std::fprintf(stderr, "rostro track: frame %ld: %s\n", frame, tracked.identification.c_str());
-    for (const auto& m : tracked.markers) valid_sum += m.valid, ++marker_sum;
+    if (!tracked.corrections.empty())
+      std::fprintf(stderr, "rostro track: frame %ld: %s\n", frame,
+                   tracking::describe_corrections(tracked).c_str());
     if (overlay.isOpened()) {
       cv::Mat image = f->image.clone();
       tracker->draw(image, frame);
@@ -118,6 +129,7 @@ void run_track(const TrackArgs& args) {
     ++frame;
     progress.update(frame);
   }
+  write(held.flush());
   progress.finish();
   if (frame == 0) {
     interrupt.throw_if_requested();

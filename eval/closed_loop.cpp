@@ -21,6 +21,7 @@
 #include "mapping/take_mapper.hpp"
 #include "render/frame_sink.hpp"
 #include "tracking/marker_tracker.hpp"
+#include "tracking/name_corrections.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -299,7 +300,8 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   std::vector<tracking::TrackedFrame> tracked;
   CallbackSink sink([&](const cv::Mat& bgr) {
     const auto i = static_cast<std::size_t>(tracked.size());
-    tracked.push_back(tracker->track(bgr, drive.frames[i].index, static_cast<double>(i) / fps));
+    tracking::append_corrected(
+        tracked, tracker->track(bgr, drive.frames[i].index, static_cast<double>(i) / fps));
   });
   const SynthResult truth = synthesize(head, library, markers, drive, o, sink, [&](long done) {
     if (progress) progress(done, total);

@@ -11,6 +11,7 @@
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/json_file.hpp"
+#include "tracking/name_corrections.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -158,7 +159,7 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
       [&](const cv::Mat& bgr) {
         if (frames) frames(bgr);
         const auto n = static_cast<long>(tracked.size());
-        tracked.push_back(tracker.track(bgr, n, static_cast<double>(n) / o.fps));
+        tracking::append_corrected(tracked, tracker.track(bgr, n, static_cast<double>(n) / o.fps));
         for (const tracking::MarkerState& m : tracker.states())
           if (!m.valid) ++row.suite.lost_by[static_cast<std::size_t>(m.lost_reason)];
       },

@@ -15,6 +15,7 @@
 #include "facecore/fap_io.hpp"
 #include "facecore/json_file.hpp"
 #include "tracking/marker_tracker.hpp"
+#include "tracking/name_corrections.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -26,7 +27,8 @@ class TrackingSink : public render::FrameSink {
  public:
   TrackingSink(tracking::MarkerTracker& tracker, double fps) : tracker_(tracker), fps_(fps) {}
   void write(const cv::Mat& bgr) override {
-    tracked.push_back(tracker_.track(bgr, count_, static_cast<double>(count_) / fps_));
+    tracking::append_corrected(tracked,
+                               tracker_.track(bgr, count_, static_cast<double>(count_) / fps_));
     ++count_;
     for (const tracking::MarkerState& s : tracker_.states())
       if (!s.valid) ++lost_by[static_cast<std::size_t>(s.lost_reason)];

@@ -20,6 +20,9 @@ class FaceTracker {
   // Whether the face has been found (markers identified, or a face detected) at least once.
   virtual bool started() const = 0;
   virtual const MarkerLayout& layout() const = 0;
+  // How many frames back a frame's name corrections (TrackedFrame::corrections) may reach: a
+  // consumer that holds this many frames before writing them can correct them all. 0: none.
+  virtual long correction_horizon() const { return 0; }
   // Draws the last frame's state (markers or landmarks, valid or not) onto `image`.
   virtual void draw(cv::Mat& image, long frame) const = 0;
 };

@@ -37,6 +37,20 @@ bool MarkerTracker::Impl::second_look(long frame) {
   // neighbours' dots).
   if (!confirmed && !(as_sure && looks == 1)) return false;
   if (!enough(id.dots.size() + id.tags.size())) return true;
+  // What each renamed dot was: the name the new naming gives the dot at its place, or none.
+  corrections.clear();
+  for (size_t i = 0; i < states.size(); ++i) {
+    const std::string& from = states[i].spec->id;
+    if (std::find(moved.begin(), moved.end(), from) == moved.end()) continue;
+    const double width = std::max(reference_diameter[i], 2.0) * face_scale;
+    std::string to;
+    double nearest = width;
+    for (const auto& [name, dot] : id.dots)
+      if (const double d = cv::norm(dot.center - states[i].position); d < nearest)
+        nearest = d, to = name;
+    corrections.push_back({from, to});
+  }
+  corrected_since = started_at;
   begin(adopt(id));
   started_at = frame;
   note = "identified again (" + std::to_string(moved.size()) +

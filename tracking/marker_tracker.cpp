@@ -245,6 +245,9 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
   out.time_s = time_s;
   out.identification = std::move(m.note);
   m.note.clear();
+  out.corrections = std::move(m.corrections);
+  out.corrected_since = out.corrections.empty() ? -1 : m.corrected_since;
+  m.corrections.clear();
   for (MarkerState& s : m.states) {
     if (s.valid) s.lost_reason = LostReason::None;
     // Found again after being lost: its name was chosen by re-acquisition, not carried by LK.
@@ -401,6 +404,11 @@ const char* to_string(LostReason r) {
       return "tag lost";
   }
   return "?";
+}
+
+long MarkerTracker::correction_horizon() const {
+  const TrackerOptions& o = impl_->options;
+  return impl_->start_positions.empty() ? o.second_look_after * o.second_look_tries : 0;
 }
 
 bool MarkerTracker::started() const {

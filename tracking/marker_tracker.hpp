@@ -35,10 +35,11 @@
 //     place, and a dot called by another name on two checks in a row takes it;
 //  6. once, a few frames after the start, the frame is identified afresh as at the start
 //     (TrackerOptions::second_look_after; again later while that naming is unsure,
-//     second_look_tries): where that confident naming puts a name on
-//     another dot, the take starts again there; where it puts a name only a dot's width or so
-//     off, the name keeps whichever of the two dots looks more like a dot on skin (round, no
-//     dark ring: not the eye's corner or the pupil).
+//     second_look_tries): where that confident naming puts a name on another dot, the take
+//     starts again there, and that frame says what each renamed dot was since the start
+//     (TrackedFrame::corrections, carried back by name_corrections.hpp); where it puts a name
+//     only a dot's width or so off, the name keeps whichever of the two dots looks more like a
+//     dot on skin (round, no dark ring: not the eye's corner or the pupil).
 
 #include <map>
 #include <memory>
@@ -229,6 +230,9 @@ class MarkerTracker : public FaceTracker {
   TrackedFrame track(const cv::Mat& image, long frame, double time_s) override;
 
   bool started() const override;
+  // A second look renames dots followed since the start (step 6 above) up to
+  // second_look_after x second_look_tries frames after it.
+  long correction_horizon() const override;
   // The identification tracking started from (confident) once started; before, the latest
   // doubtful one, saying why (IdentificationConfidence::doubt). Empty (0 dots) with starting
   // positions or before the first frame.

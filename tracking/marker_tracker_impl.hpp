@@ -113,6 +113,9 @@ struct MarkerTracker::Impl {
   FacePrior face_prior{options.identification.face_model};
   std::map<std::string, cv::Point2d> expected_start;  // Identification::places
   std::string note;                                   // this frame's TrackedFrame::identification
+  // This frame's TrackedFrame::corrections and their first frame (the second look's renames).
+  std::vector<NameCorrection> corrections;
+  long corrected_since = -1;
   cv::Mat gray;          // this frame; a view of the caller's image when it is grey already
   cv::Mat gray_storage;  // conversion buffer for colour input, reused frame to frame
   // The LK pyramids cover only the region the markers occupy (plus room for motion), not the

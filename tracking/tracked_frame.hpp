@@ -24,6 +24,13 @@ struct HeadPose {
   cv::Vec3d translation;  // millimetres, camera frame
 };
 
+// A name the tracker followed on the wrong dot: the dot it called `from` was `to` (empty: no
+// marker at all, a name followed on a blob that is none).
+struct NameCorrection {
+  std::string from, to;
+  bool operator==(const NameCorrection&) const = default;
+};
+
 struct TrackedFrame {
   long frame = 0;
   double time_s = 0;
@@ -32,6 +39,11 @@ struct TrackedFrame {
   // On the frame where the markers were identified, or their identities corrected: how and
   // how surely, in words (tracking/identify.hpp's describe()); empty elsewhere.
   std::string identification;
+  // On a frame where the tracker found names it had followed since frame `corrected_since`
+  // wrong (FaceTracker::correction_horizon()): what each was. This frame is named rightly
+  // already; the earlier ones take the corrections (tracking/name_corrections.hpp).
+  long corrected_since = -1;
+  std::vector<NameCorrection> corrections;
 };
 
 }  // namespace rostro::tracking
