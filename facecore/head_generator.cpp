@@ -931,8 +931,9 @@ FaceModel generate_head(const HeadOptions& options) {
                        [&](int v) { return b.pos(v).x() == 0 && !is_lower(v); });
   fp[{8, 2}] = nearest(front_skin, V3(0, my - lower_lip_height(0), 0), xy,
                        [&](int v) { return b.pos(v).x() == 0 && !is_upper(v); });
+  // (The mouth's row runs round the head: a vertex of the nape can lie as near in x and y.)
   fp[{8, 3}] = nearest(mouth_row, V3(kOuterCornerX + 0.8, my, 0), xy, [&](int v) {
-    return b.side[static_cast<std::size_t>(v)] == Side::None &&
+    return b.side[static_cast<std::size_t>(v)] == Side::None && b.pos(v).z() > 20 &&
            b.pos(v).x() > b.pos(fp[{2, 4}]).x() + 0.5;
   });
   fp[{8, 5}] = nearest(front_skin, V3(12, my + upper_lip_height(12), 0), xy,

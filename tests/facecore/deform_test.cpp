@@ -507,6 +507,18 @@ std::pair<double, int> sharpest_added_bend(const std::vector<Eigen::Vector3f>& d
   return {sharpest, checked};
 }
 
+TEST(HeadGenerator, TheMouthCornersLieOnTheFaceAtAnyResolution) {
+  // The mouth's row of the skin runs round the head, and at 150,000 and 200,000 vertices a
+  // vertex of the nape lay as near the corner's x and y as any at the front: 8.3 went there,
+  // its region found no skin and the head was not generated.
+  for (int n : {150000, 200000}) {
+    const FaceModel m = generate_head(HeadOptions{n});
+    for (FeaturePointId corner : {FeaturePointId{8, 3}, {8, 4}, {2, 4}, {2, 5}})
+      EXPECT_GT(m.positions[static_cast<std::size_t>(m.feature_points.at(corner))].z(), 50.0f)
+          << corner.str() << " at " << n << " vertices";
+  }
+}
+
 TEST(HeadGenerator, TheSkinPastTheMouthCornersFollowsThemWithoutAFold) {
   // A full smile (joy's stretch, a little more raise): both outer corners about 10 mm out and
   // up. The skin past the corners bends with them, nowhere folding: a region that ended there
