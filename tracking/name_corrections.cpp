@@ -1,6 +1,8 @@
 #include "tracking/name_corrections.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace rostro::tracking {
@@ -12,33 +14,62 @@ MarkerObservation* find(TrackedFrame& f, const std::string& id) {
   return nullptr;
 }
 
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+// The face's own motion from `a` to `b`: the median shift of the markers seen on both.
+cv::Point2d face_shift(const TrackedFrame& a, const TrackedFrame& b) {
+  std::vector<double> dx, dy;
+  for (const MarkerObservation& oa : a.markers) {
+    if (!oa.valid) continue;
+    for (const MarkerObservation& ob : b.markers)
+      if (ob.marker == oa.marker && ob.valid) {
+        dx.push_back(ob.position.x - oa.position.x), dy.push_back(ob.position.y - oa.position.y);
+        break;
+      }
+  }
+  return {median(dx), median(dy)};
+}
+
+// Half the markers' typical spacing on `f` (the median distance to the nearest other marker
+// seen): a followed dot never leaves its neighbours by that much between two frames.
+double half_spacing(const TrackedFrame& f) {
+  std::vector<double> nearest;
+  for (const MarkerObservation& a : f.markers) {
+    if (!a.valid) continue;
+    double d = std::numeric_limits<double>::max();
+    for (const MarkerObservation& b : f.markers)
+      if (&a != &b && b.valid) d = std::min(d, cv::norm(a.position - b.position));
+    if (d < std::numeric_limits<double>::max()) nearest.push_back(d);
+  }
+  return nearest.empty() ? std::numeric_limits<double>::max() : 0.5 * median(nearest);
+}
+
 }  // namespace
 
 void apply_name_corrections(std::span<TrackedFrame> earlier, const TrackedFrame& now) {
   if (now.corrections.empty()) return;
   // Each corrected name's track, followed back from the last earlier frame while it stays
-  // seen and moves by less than a jump between frames (LK followed one dot there).
-  const double jump = [&] {
-    // A tenth of the spread of the markers seen on the frame of the correction: well over a
-    // frame's motion of one dot, well under the spacing of two.
-    double lo_x = 1e18, hi_x = -1e18;
-    for (const MarkerObservation& o : now.markers)
-      if (o.valid) lo_x = std::min(lo_x, o.position.x), hi_x = std::max(hi_x, o.position.x);
-    return hi_x > lo_x ? 0.1 * (hi_x - lo_x) : 1e18;
-  }();
+  // seen and moves with the face (LK followed one blob there; a name re-found on another blob
+  // jumps away from its neighbours' motion).
+  const double jump = half_spacing(now);
   std::map<std::string, long> track_begins;  // from -> first frame of its last track
   for (const NameCorrection& c : now.corrections) {
     long begins = now.frame;
-    const MarkerObservation* after = nullptr;
+    const TrackedFrame* after = nullptr;
+    const MarkerObservation* after_o = nullptr;
     for (auto it = earlier.rbegin(); it != earlier.rend(); ++it) {
       if (it->frame < now.corrected_since) break;
       const MarkerObservation* o = find(*it, c.from);
       if (o == nullptr || !o->valid) break;
       if (after != nullptr &&
-          std::hypot(o->position.x - after->position.x, o->position.y - after->position.y) > jump)
+          cv::norm(after_o->position - o->position - face_shift(*it, *after)) > jump)
         break;
       begins = it->frame;
-      after = o;
+      after = &*it, after_o = o;
     }
     track_begins[c.from] = begins;
   }

@@ -5,9 +5,10 @@
 // later (TrackerOptions::second_look_after); where the second look names a followed dot
 // otherwise, the frames between were given out under the wrong name. The frame of the second
 // look says which (TrackedFrame::corrections). A consumer that holds the frames can rename
-// them: the dot followed as `from` is `to` back to where its track began (it was lost before,
-// and what it followed there is not known), and `from` is left unseen over those frames
-// unless another correction names a dot it. A take held whole applies each frame's
+// them: the dot followed as `from` is `to` back to where its track began (where it was lost,
+// or jumped by half a spacing against its neighbours' motion: what it followed before is not
+// known), and `from` is left unseen over those frames unless another correction names a dot
+// it. A take held whole applies each frame's
 // corrections to the frames before it; one written as it goes holds its last frames in a
 // CorrectionWindow.
 

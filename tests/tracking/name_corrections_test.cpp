@@ -10,17 +10,17 @@
 namespace rostro::tracking {
 namespace {
 
-// Frames 0..n-1 of markers a, b, c: a and c seen moving 1 px right a frame, b unseen.
+// Frames 0..n-1 of markers a to f in a row 30 px apart, moving 1 px right a frame; b unseen.
 std::vector<TrackedFrame> take(int n) {
   std::vector<TrackedFrame> frames;
   for (int k = 0; k < n; ++k) {
     TrackedFrame f;
     f.frame = k;
-    for (const char* id : {"a", "b", "c"}) {
+    for (const char* id : {"a", "b", "c", "d", "e", "f"}) {
       MarkerObservation o;
       o.marker = id;
       o.valid = std::string(id) != "b";
-      o.position = o.valid ? cv::Point2d(100.0 * (id[0] - 'a') + k, 50) : cv::Point2d(NAN, NAN);
+      o.position = o.valid ? cv::Point2d(30.0 * (id[0] - 'a') + k, 50) : cv::Point2d(NAN, NAN);
       o.quality = o.valid ? 1 : 0;
       f.markers.push_back(o);
     }
@@ -58,8 +58,8 @@ TEST(NameCorrections, SwappedNamesTradeTracksAndANameOnNoDotIsUnseen) {
   apply_name_corrections(frames, correction(6, 2, {{"a", "c"}, {"c", "a"}}));
   for (const TrackedFrame& f : frames) {
     const bool after = f.frame >= 2;  // the frames before the start keep their names
-    EXPECT_EQ(at(f, "a").position.x, after ? 200.0 + f.frame : f.frame) << f.frame;
-    EXPECT_EQ(at(f, "c").position.x, after ? f.frame : 200.0 + f.frame) << f.frame;
+    EXPECT_EQ(at(f, "a").position.x, after ? 60.0 + f.frame : f.frame) << f.frame;
+    EXPECT_EQ(at(f, "c").position.x, after ? f.frame : 60.0 + f.frame) << f.frame;
   }
   frames = take(6);
   apply_name_corrections(frames, correction(6, 0, {{"c", ""}}));
@@ -75,16 +75,29 @@ TEST(NameCorrections, OnlyTheTrackThatLedToTheRenameIsRenamed) {
   std::vector<TrackedFrame> frames = take(10);
   for (MarkerObservation& o : frames[4].markers)
     if (o.marker == "a") o.valid = false;
-  // ... and a jump on frame 7 (re-found elsewhere): only frames 7-9 were the renamed dot.
+  // ... and a jump on frame 7 (re-found on another blob 20 px off, while the face moved 1 px):
+  // only frames 7-9 were the renamed dot.
   for (int k = 7; k < 10; ++k)
     for (MarkerObservation& o : frames[static_cast<std::size_t>(k)].markers)
-      if (o.marker == "a") o.position.x += 60;
+      if (o.marker == "a") o.position.y += 20;
   apply_name_corrections(frames, correction(10, 0, {{"a", "b"}}));
   for (const TrackedFrame& f : frames) {
     const bool renamed = f.frame >= 7;
     EXPECT_EQ(at(f, "b").valid, renamed) << f.frame;
     EXPECT_EQ(at(f, "a").valid, !renamed && f.frame != 4) << f.frame;
   }
+}
+
+TEST(NameCorrections, AFaceMovingFastIsNoJump) {
+  // Every marker 24 px further a frame (a quick turn): more than half their spacing, but with
+  // the face, so the renamed track runs back to the start.
+  std::vector<TrackedFrame> frames = take(10);
+  for (TrackedFrame& f : frames)
+    for (MarkerObservation& o : f.markers) o.position.x += 24.0 * static_cast<double>(f.frame);
+  TrackedFrame now = correction(10, 0, {{"a", "b"}});
+  for (MarkerObservation& o : now.markers) o.position.x += 240;
+  apply_name_corrections(frames, now);
+  for (const TrackedFrame& f : frames) EXPECT_TRUE(at(f, "b").valid) << f.frame;
 }
 
 TEST(NameCorrections, AWindowHoldsFramesUntilNoLaterFrameCanCorrectThem) {
