@@ -13,6 +13,7 @@
 #include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
 #include "tracking/lower_lip_search.hpp"
+#include "tracking/order_statistic.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::tracking {
@@ -32,14 +33,6 @@ cv::Matx23d similarity_from_clouds(const std::vector<cv::Point2d>& from,
   auto [ct, st] = centre_and_spread(to);
   const double k = sf > 0 ? st / sf : 1;
   return {k, 0, ct.x - k * cf.x, 0, k, ct.y - k * cf.y};
-}
-
-// The value a `share` of `values` lie below (0.5: the median); `fallback` when there are none.
-double quantile(std::vector<double> values, double share, double fallback) {
-  if (values.empty()) return fallback;
-  const auto at = values.begin() + static_cast<long>(share * static_cast<double>(values.size()));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
 }
 
 constexpr double kNoPair = 1e12;
@@ -219,7 +212,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       if (i != j) spacing[i] = std::min(spacing[i], cv::norm(layout_points[i] - layout_points[j]));
   const double closest = spacing.empty() ? 1.0 : *std::min_element(spacing.begin(), spacing.end());
   // The layout's typical spacing: how far a neighbour's offset speaks for a dot.
-  const double closest_typical = quantile(spacing, 0.5, 1.0);
+  const double closest_typical = order_statistic(spacing, 0.5, 1.0);
 
   auto scale_of = [](const cv::Matx23d& m) {
     return std::sqrt(std::abs(m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)));
@@ -234,7 +227,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
             e.push_back(dots[static_cast<size_t>(k)].elongation);
     std::vector<bool> ok(dots.size(), true);
     if (d.size() < 3) return ok;
-    const double median = quantile(d, 0.5, 0), elongation = quantile(e, 0.5, 1);
+    const double median = order_statistic(d, 0.5, 0), elongation = order_statistic(e, 0.5, 1);
     for (size_t k = 0; k < dots.size(); ++k)
       ok[k] = dots[k].diameter <= median * options.size_factor &&
               dots[k].diameter >= median / options.size_factor &&
@@ -275,7 +268,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     std::vector<double> diameters;
     for (int k : match)
       if (k >= 0) diameters.push_back(dots[static_cast<size_t>(k)].diameter);
-    const double measured_mm = px_per_mm > 0 ? quantile(diameters, 0.5, 0) / px_per_mm : 0;
+    const double measured_mm = px_per_mm > 0 ? order_statistic(diameters, 0.5, 0) / px_per_mm : 0;
     const double larger_mm = std::max(0.0, (measured_mm - layout.dot_diameter_mm) / 2);
     for (const MarkerSpec* dot : layout_dots) {
       auto it = worn.find(dot->id);
@@ -476,7 +469,7 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
       std::vector<double> contrasts;
       for (int k : best.match)
         if (k >= 0) contrasts.push_back(dots[static_cast<size_t>(k)].contrast);
-      const double typical = quantile(contrasts, 0.5, 0);
+      const double typical = order_statistic(contrasts, 0.5, 0);
       for (size_t k = 0; k < k_count; ++k)
         if (typical > 0 && dots[k].contrast > 0 && dots[k].contrast < typical)
           faintness[k] = std::pow(std::log(typical / dots[k].contrast), 2);
@@ -561,11 +554,11 @@ Identification identify_markers(const MarkerLayout& layout, const std::vector<Do
     std::vector<double> elongations;
     for (size_t i = 0; i < n; ++i)
       if (named[i] >= 0) elongations.push_back(dots[static_cast<size_t>(named[i])].elongation);
-    id.confidence.elongation = quantile(elongations, 0.5, 1);
-    id.confidence.residual = quantile(distances, 0.5, 0);
+    id.confidence.elongation = order_statistic(elongations, 0.5, 1);
+    id.confidence.residual = order_statistic(distances, 0.5, 0);
     if (!gaps.empty()) {
       // Without tags read, a shifted arrangement is the rival to beat as well.
-      const double local = quantile(gaps, 0.25, 0);
+      const double local = order_statistic(gaps, 0.25, 0);
       id.confidence.margin = seen_tags.empty() ? std::min(local, id.confidence.margin) : local;
     }
   }

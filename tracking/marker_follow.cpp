@@ -2,6 +2,7 @@
 // measured centre, the tags aligned, and the dots that jumped, coincide or left their lid's
 // band dropped.
 #include "tracking/marker_tracker_impl.hpp"
+#include "tracking/order_statistic.hpp"
 
 namespace rostro::tracking {
 
@@ -188,9 +189,7 @@ void MarkerTracker::Impl::drop_jumped(const Flow& f) {
     if (near.size() > 6) near.resize(6);
     std::vector<double> xs, ys;
     for (const auto& [d, j] : near) xs.push_back(moved[j].x), ys.push_back(moved[j].y);
-    std::nth_element(xs.begin(), xs.begin() + static_cast<long>(xs.size() / 2), xs.end());
-    std::nth_element(ys.begin(), ys.begin() + static_cast<long>(ys.size() / 2), ys.end());
-    const cv::Point2d typical(xs[xs.size() / 2], ys[ys.size() / 2]);
+    const cv::Point2d typical(median(std::move(xs)), median(std::move(ys)));
     if (cv::norm(moved[i] - typical) >
         std::max(options.max_relative_motion_px * px, options.max_relative_motion * spacing[i]))
       jumped.push_back(i);

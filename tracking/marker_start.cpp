@@ -1,6 +1,7 @@
 // Naming the markers at the start of a take: the whole frame's tags and dots named
 // (identify.hpp), or the positions given; the reference looks and spacings measured there.
 #include "tracking/marker_tracker_impl.hpp"
+#include "tracking/order_statistic.hpp"
 
 namespace rostro::tracking {
 
@@ -171,11 +172,6 @@ std::pair<std::vector<double>, std::vector<double>> MarkerTracker::Impl::measure
 void MarkerTracker::Impl::scale_to_dots(
     const std::pair<std::vector<double>, std::vector<double>>& measured) {
   const auto& [contrasts, diameters] = measured;
-  auto median = [](std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
   const double typical_contrast = median(contrasts), typical_diameter = median(diameters);
   std::vector<double> seen_looks;
   for (size_t i = 0; i < states.size(); ++i)

@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 
+#include "tracking/order_statistic.hpp"
+
 namespace rostro::tracking {
 namespace {
 
@@ -12,12 +14,6 @@ MarkerObservation* find(TrackedFrame& f, const std::string& id) {
   for (MarkerObservation& o : f.markers)
     if (o.marker == id) return &o;
   return nullptr;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-  return v[v.size() / 2];
 }
 
 // The face's own motion from `a` to `b`: the median shift of the markers seen on both.
