@@ -111,8 +111,7 @@ void run_track(const TrackArgs& args) {
   while ((args.max_frames <= 0 || frame < args.max_frames) && !interrupt.requested()) {
     auto f = source->next();
     if (!f) break;
-    const tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
-    write(held.push(tracked));
+    tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
     if (!tracker->started()) ++never_started;
     // The identification is reported at the end; a check during the take that renamed a dot,
     // as it happens.
@@ -121,6 +120,7 @@ void run_track(const TrackArgs& args) {
     if (!tracked.corrections.empty())
       std::fprintf(stderr, "rostro track: frame %ld: %s\n", frame,
                    tracking::describe_corrections(tracked).c_str());
+    write(held.push(std::move(tracked)));
     if (overlay.isOpened()) {
       cv::Mat image = f->image.clone();
       tracker->draw(image, frame);

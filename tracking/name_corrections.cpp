@@ -106,23 +106,17 @@ void append_corrected(std::vector<TrackedFrame>& take, TrackedFrame frame) {
 }
 
 std::vector<TrackedFrame> CorrectionWindow::push(TrackedFrame frame) {
-  if (!frame.corrections.empty()) {
-    std::vector<TrackedFrame> held(held_.begin(), held_.end());
-    apply_name_corrections(held, frame);
-    held_.assign(held.begin(), held.end());
-  }
+  apply_name_corrections(held_, frame);
   held_.push_back(std::move(frame));
-  std::vector<TrackedFrame> out;
-  while (static_cast<long>(held_.size()) > horizon_) {
-    out.push_back(std::move(held_.front()));
-    held_.pop_front();
-  }
+  const long ready = std::max(0L, static_cast<long>(held_.size()) - horizon_);
+  std::vector<TrackedFrame> out(std::make_move_iterator(held_.begin()),
+                                std::make_move_iterator(held_.begin() + ready));
+  held_.erase(held_.begin(), held_.begin() + ready);
   return out;
 }
 
 std::vector<TrackedFrame> CorrectionWindow::flush() {
-  std::vector<TrackedFrame> out(std::make_move_iterator(held_.begin()),
-                                std::make_move_iterator(held_.end()));
+  std::vector<TrackedFrame> out = std::move(held_);
   held_.clear();
   return out;
 }

@@ -12,7 +12,6 @@
 // corrections to the frames before it; one written as it goes holds its last frames in a
 // CorrectionWindow.
 
-#include <deque>
 #include <span>
 #include <string>
 #include <vector>
@@ -45,7 +44,7 @@ class CorrectionWindow {
 
  private:
   long horizon_;
-  std::deque<TrackedFrame> held_;
+  std::vector<TrackedFrame> held_;  // a horizon's frames: moved along, not reallocated
 };
 
 }  // namespace rostro::tracking
