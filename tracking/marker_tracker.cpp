@@ -155,7 +155,8 @@ LostReason MarkerTracker::Impl::dot_check(size_t i, const Dot& d, bool followed)
   if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
     return LostReason::Contrast;
   if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
-  if (followed && !(d.diameter >= options.min_recent_size * last_diameter[i]))
+  if ((followed || !reference_seen[i]) &&
+      !(d.diameter >= options.min_recent_size * last_diameter[i]))
     return LostReason::Shrunk;
   if (!(d.diameter <= (at_eye(i) && !followed ? largest_found(i) : 2.0 * reference_diameter[i])))
     return LostReason::Growth;

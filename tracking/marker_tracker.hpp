@@ -93,8 +93,11 @@ struct TrackerOptions {
   // in low light eats into a small dot's rim. A dot turning edge-on shrinks too, but by a few
   // per cent a frame (at 100 degrees a second); compared with a running mean instead of the
   // frame before, such a dot was dropped and found again on the eye's corner
-  // (EyeCornerMerge tests). Measured on the photo scenes no rule was tuned on: docs/accuracy.md,
-  // "A dot that suddenly shrinks". 0: off.
+  // (EyeCornerMerge tests). A dot not measured since the start is judged the same way when it
+  // is first found, against the size it was given there (the other dots'): a blob that much
+  // smaller, where it is looked for, is something else (the mouth's own corner, a brow hair).
+  // Measured on the photo scenes no rule was tuned on: docs/accuracy.md, "A dot that suddenly
+  // shrinks". 0: off.
   double min_recent_size = 0.85;
   double tag_margin = 0.3;            // tag search window: expected box + this x tag size
   double tag_decimate_above_px = 48;  // tags wider than this are searched at half resolution
@@ -189,7 +192,7 @@ enum class LostReason {
   LidElongation,  // a lid dot's blob longer than max_lid_elongation
   LidSurround,    // a lid dot's ring darker than max_lid_surround
   Contrast,       // below min_contrast_ratio of its contrast at the start
-  Shrunk,         // under half its start size, or min_recent_size of the frame before's
+  Shrunk,         // under half its start size, or min_recent_size of its last (or given) size
   Growth,         // over twice its start size; an eye dot found again, past max_dot_growth_found
   Jump,           // moved unlike its neighbours (max_relative_motion, max_relative_motion_px)
   Coincident,     // on the spot of another dot (both are dropped)

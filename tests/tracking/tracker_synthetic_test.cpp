@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <opencv2/imgproc.hpp>
 #include <set>
 
 #include "facecore/error.hpp"
@@ -262,6 +263,51 @@ TEST(Tracker, ADotAnEdgeCutsIntoIsDroppedNotReportedOffItsPlace) {
               without.worst_px);
   EXPECT_EQ(without.reported, 3);
   EXPECT_GT(without.worst_px, 0.5);
+}
+
+// A dot under a hand from the start, and on the hand near its place a smaller dark speck (a
+// freckle, a hair; at the mouth, its corner): the dot was never measured, and the speck is
+// smaller than the size it was given at the start, the other dots' size, by more than a dot
+// shrinks in a frame (min_recent_size). It is not taken as the dot. (The second look is off:
+// it places names on the dots of a fresh naming by their look, not their size; judged by size
+// there too, the blurred starts of the held-out photo scenes lost 670 more observations.)
+TEST(Tracker, ADotNeverSeenIsNotFoundOnASmallerSpeck) {
+  const MarkerLayout layout = default_layout();
+  SceneOptions o;
+  o.motion_px = 0, o.expression_px = 0;
+  o.dot_diameter_px = 10;
+  std::map<std::string, Truth> at_rest;
+  SyntheticScene(layout, o).render(0, at_rest);
+  const cv::Point2d dot = at_rest.at("cheek_l").position;
+  o.occluders = {{{dot.x - 20, dot.y - 20, 40, 40}, 0, 30}};
+  const int speck_radius_px = 3;
+  auto reported = [&](double min_recent_size) {
+    TrackerOptions options = options_for(o);
+    options.min_recent_size = min_recent_size;
+    options.second_look_after = 0;
+    SyntheticScene scene(layout, o);
+    MarkerTracker tracker(layout, options);
+    int frames = 0;
+    for (int k = 0; k <= 30; ++k) {
+      std::map<std::string, Truth> truth;
+      cv::Mat image = scene.render(k, truth);
+      EXPECT_TRUE(truth.at("cheek_l").hidden) << "frame " << k;
+      if (k >= 3)  // from the third frame, 3 px beside where the dot is
+        cv::circle(image, cv::Point(dot + cv::Point2d(3, 0)), speck_radius_px, cv::Scalar(40),
+                   cv::FILLED, cv::LINE_AA);
+      const TrackedFrame tf = tracker.track(image, k, k / 30.0);
+      for (const MarkerObservation& m : tf.markers) frames += m.marker == "cheek_l" && m.valid;
+    }
+    return frames;
+  };
+  const int with_rule = reported(TrackerOptions().min_recent_size);
+  const int without = reported(0);
+  std::printf(
+      "a speck where a dot never seen should be: taken as the dot in %d of 31 frames (%d "
+      "without the rule)\n",
+      with_rule, without);
+  EXPECT_EQ(with_rule, 0);
+  EXPECT_GT(without, 0);
 }
 
 TEST(Tracker, EachLostReasonHasItsOwnName) {
