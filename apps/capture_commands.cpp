@@ -29,6 +29,7 @@
 #include "render/video_writer.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/name_corrections.hpp"
+#include "tracking/start_backfill.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
@@ -56,6 +57,8 @@ class TrackedInput {
     } else {
       tracker_ = a.face.make();
       held_ = tracking::CorrectionWindow(tracker_->correction_horizon());
+      backfill_ =
+          std::make_unique<tracking::StartBackfill>(*tracker_, tracker_->correction_horizon());
       source_ = capture::open_frame_source(a.source);
       size_ = source_->frame_size();
       fps_ = source_->nominal_fps();
@@ -73,7 +76,13 @@ class TrackedInput {
         stop();
         break;
       }
+      const bool was_started = tracker_->started();
       tracking::TrackedFrame tracked = tracker_->track(frame->image, index_++, frame->timestamp_s);
+      backfill_->extend_corrections(tracked);
+      if (!tracker_->started())
+        backfill_->hold(frame->image);
+      else if (!was_started && tracked.frame > 0)
+        backfill_->fill(held_.held(), tracked, frame->image);
       if (view != nullptr) {
         views_.push_back(frame->image.clone());
         tracker_->draw(views_.back(), tracked.frame);
@@ -112,6 +121,8 @@ class TrackedInput {
   tracking::MarkerLayout layout_;  // of a tracks CSV
   std::unique_ptr<tracking::FaceTracker> tracker_;
   tracking::CorrectionWindow held_{0};
+  // The frames before the start still held, filled by following the markers back from it.
+  std::unique_ptr<tracking::StartBackfill> backfill_;
   std::deque<tracking::TrackedFrame> ready_;  // corrected, not yet handed out
   std::deque<cv::Mat> views_;                 // the images of the frames held and ready
   bool stopped_ = false;

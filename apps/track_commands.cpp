@@ -23,6 +23,7 @@
 #include "tracking/marker_tracker.hpp"
 #include "tracking/name_corrections.hpp"
 #include "tracking/overlay.hpp"
+#include "tracking/start_backfill.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace rostro::app {
@@ -102,6 +103,9 @@ void run_track(const TrackArgs& args) {
   InterruptScope interrupt;
   // The last frames wait for the names the tracker may still correct in them.
   tracking::CorrectionWindow held(tracker->correction_horizon());
+  // The frames before the start still held are filled by following the markers back from it.
+  tracking::StartBackfill backfill(*tracker, tracker->correction_horizon());
+  long filled_from = -1;
   const auto write = [&](const std::vector<tracking::TrackedFrame>& ready) {
     for (const tracking::TrackedFrame& t : ready) {
       writer.write(t);
@@ -111,8 +115,18 @@ void run_track(const TrackArgs& args) {
   while ((args.max_frames <= 0 || frame < args.max_frames) && !interrupt.requested()) {
     auto f = source->next();
     if (!f) break;
+    const bool was_started = tracker->started();
     tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
-    if (!tracker->started()) ++never_started;
+    backfill.extend_corrections(tracked);
+    if (!tracker->started()) {
+      ++never_started;
+      backfill.hold(f->image);
+    } else if (!was_started && frame > 0) {
+      filled_from = backfill.fill(held.held(), tracked, f->image);
+      if (filled_from < frame)
+        std::fprintf(stderr, "rostro track: frame %ld: frames %ld-%ld followed back from it\n",
+                     frame, filled_from, frame - 1);
+    }
     // The identification is reported at the end; a check during the take that renamed a dot,
     // as it happens.
     if (!tracked.identification.empty() && tracked.identification.starts_with("identities"))
@@ -168,9 +182,11 @@ void run_track(const TrackArgs& args) {
       static_cast<long>(stats.dropped));
   if (!identified.empty()) {
     std::printf("%s\n", identified.c_str());
-    if (never_started > 0 && never_started < frame)
-      std::printf("the %ld frames before it are written with every marker invalid\n",
-                  never_started);
+    if (never_started > 0 && never_started < frame) {
+      std::printf(
+          "the %ld frames before it are written with every marker invalid%s\n", never_started,
+          filled_from >= 0 && filled_from < frame ? " but those followed back from it" : "");
+    }
   }
 }
 

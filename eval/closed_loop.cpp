@@ -22,6 +22,7 @@
 #include "render/frame_sink.hpp"
 #include "tracking/marker_tracker.hpp"
 #include "tracking/name_corrections.hpp"
+#include "tracking/start_backfill.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -298,10 +299,18 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
   const auto markers = place_markers(head, layout);
   std::vector<tracking::TrackedFrame> tracked;
+  tracking::StartBackfill backfill(*tracker, tracker->correction_horizon());
   CallbackSink sink([&](const cv::Mat& bgr) {
     const auto i = static_cast<std::size_t>(tracked.size());
-    tracking::append_corrected(
-        tracked, tracker->track(bgr, drive.frames[i].index, static_cast<double>(i) / fps));
+    const bool was_started = tracker->started();
+    tracking::TrackedFrame now =
+        tracker->track(bgr, drive.frames[i].index, static_cast<double>(i) / fps);
+    backfill.extend_corrections(now);
+    tracking::append_corrected(tracked, std::move(now));
+    if (!tracker->started())
+      backfill.hold(bgr);
+    else if (!was_started && i > 0)
+      backfill.fill(std::span(tracked).first(i), tracked.back(), bgr);
   });
   const SynthResult truth = synthesize(head, library, markers, drive, o, sink, [&](long done) {
     if (progress) progress(done, total);

@@ -12,6 +12,7 @@
 #include "facecore/error.hpp"
 #include "facecore/json_file.hpp"
 #include "tracking/name_corrections.hpp"
+#include "tracking/start_backfill.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -151,6 +152,8 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
   PhotoSceneOptions o = s.scene;
   o.photo = faces / s.scene.photo;
   tracking::MarkerTracker tracker(layout, tracker_options);
+  // As far back as `rostro track` holds frames.
+  tracking::StartBackfill backfill(tracker, tracker.correction_horizon());
   std::vector<tracking::TrackedFrame> tracked;
   PhotoRow row;
   const long total = std::max(1L, std::lround(o.seconds * o.fps));
@@ -159,7 +162,18 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
       [&](const cv::Mat& bgr) {
         if (frames) frames(bgr);
         const auto n = static_cast<long>(tracked.size());
-        tracking::append_corrected(tracked, tracker.track(bgr, n, static_cast<double>(n) / o.fps));
+        const bool was_started = tracker.started();
+        tracking::TrackedFrame now = tracker.track(bgr, n, static_cast<double>(n) / o.fps);
+        backfill.extend_corrections(now);
+        tracking::append_corrected(tracked, std::move(now));
+        if (!tracker.started())
+          backfill.hold(bgr);
+        else if (!was_started) {
+          backfill.fill(std::span(tracked).first(tracked.size() - 1), tracked.back(), bgr);
+          // Counted lost as unidentified as they came: the table says what was written.
+          row.suite.lost_by[static_cast<std::size_t>(tracking::LostReason::Unidentified)] -=
+              backfill.filled_observations();
+        }
         for (const tracking::MarkerState& m : tracker.states())
           if (!m.valid) ++row.suite.lost_by[static_cast<std::size_t>(m.lost_reason)];
       },

@@ -16,6 +16,7 @@
 #include "facecore/json_file.hpp"
 #include "tracking/marker_tracker.hpp"
 #include "tracking/name_corrections.hpp"
+#include "tracking/start_backfill.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -25,13 +26,23 @@ using nlohmann::json;
 // A frame sink that tracks each frame as it is rendered: no clip is kept in memory or on disk.
 class TrackingSink : public render::FrameSink {
  public:
-  TrackingSink(tracking::MarkerTracker& tracker, double fps) : tracker_(tracker), fps_(fps) {}
+  TrackingSink(tracking::MarkerTracker& tracker, double fps)
+      : tracker_(tracker), fps_(fps), backfill_(tracker, tracker.correction_horizon()) {}
   void write(const cv::Mat& bgr) override {
-    tracking::append_corrected(tracked,
-                               tracker_.track(bgr, count_, static_cast<double>(count_) / fps_));
-    ++count_;
+    const bool was_started = tracker_.started();
+    tracking::TrackedFrame now = tracker_.track(bgr, count_, static_cast<double>(count_) / fps_);
+    backfill_.extend_corrections(now);
+    tracking::append_corrected(tracked, std::move(now));
     for (const tracking::MarkerState& s : tracker_.states())
       if (!s.valid) ++lost_by[static_cast<std::size_t>(s.lost_reason)];
+    if (!tracker_.started()) {
+      backfill_.hold(bgr);
+    } else if (!was_started && count_ > 0) {
+      backfill_.fill(std::span(tracked).first(tracked.size() - 1), tracked.back(), bgr);
+      lost_by[static_cast<std::size_t>(tracking::LostReason::Unidentified)] -=
+          backfill_.filled_observations();
+    }
+    ++count_;
   }
   void finish() override {}
   long frames_written() const override { return count_; }
@@ -41,6 +52,7 @@ class TrackingSink : public render::FrameSink {
  private:
   tracking::MarkerTracker& tracker_;
   double fps_;
+  tracking::StartBackfill backfill_;  // as far back as `rostro track` holds frames
   long count_ = 0;
 };
 

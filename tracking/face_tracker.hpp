@@ -4,6 +4,7 @@
 // LandmarkTracker finds the 68 iBUG landmarks of a bare face. Calibration, the fit and
 // everything after them see only this.
 
+#include <memory>
 #include <opencv2/core.hpp>
 
 #include "tracking/layout.hpp"
@@ -23,6 +24,12 @@ class FaceTracker {
   // How many frames back a frame's name corrections (TrackedFrame::corrections) may reach: a
   // consumer that holds this many frames before writing them can correct them all. 0: none.
   virtual long correction_horizon() const { return 0; }
+  // A tracker like this one started from `start`'s positions, for following them back over
+  // the frames before it (tracking/start_backfill.hpp); none where that is not done.
+  virtual std::unique_ptr<FaceTracker> started_from(const TrackedFrame& start) const {
+    (void)start;
+    return nullptr;
+  }
   // Draws the last frame's state (markers or landmarks, valid or not) onto `image`.
   virtual void draw(cv::Mat& image, long frame) const = 0;
 };

@@ -183,6 +183,15 @@ MarkerTracker::MarkerTracker(MarkerLayout layout, TrackerOptions options)
 
 MarkerTracker::~MarkerTracker() = default;
 
+std::unique_ptr<FaceTracker> MarkerTracker::started_from(const TrackedFrame& start) const {
+  auto tracker = std::make_unique<MarkerTracker>(impl_->layout, impl_->options);
+  std::map<std::string, cv::Point2d> at;
+  for (const MarkerObservation& o : start.markers)
+    if (o.valid) at[o.marker] = o.position;
+  tracker->set_start_positions(at);
+  return tracker;
+}
+
 void MarkerTracker::set_start_positions(const std::map<std::string, cv::Point2d>& positions) {
   impl_->start_positions = positions;
   impl_->started = false;

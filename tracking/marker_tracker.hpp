@@ -233,6 +233,8 @@ class MarkerTracker : public FaceTracker {
   TrackedFrame track(const cv::Mat& image, long frame, double time_s) override;
 
   bool started() const override;
+  // A MarkerTracker with these options, started from `start`'s valid positions.
+  std::unique_ptr<FaceTracker> started_from(const TrackedFrame& start) const override;
   // A second look renames dots followed since the start (step 6 above) up to
   // second_look_after x second_look_tries frames after it.
   long correction_horizon() const override;

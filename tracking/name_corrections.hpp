@@ -41,6 +41,8 @@ class CorrectionWindow {
   std::vector<TrackedFrame> push(TrackedFrame frame);
   // The frames still held, oldest first (at the end of the take, or when it stops).
   std::vector<TrackedFrame> flush();
+  // The frames still held, oldest first, for rewriting (StartBackfill).
+  std::span<TrackedFrame> held() { return held_; }
 
  private:
   long horizon_;

@@ -15,6 +15,8 @@
 #include "tracking/identify.hpp"
 #include "tracking/layout.hpp"
 #include "tracking/marker_tracker.hpp"
+#include "tracking/name_corrections.hpp"
+#include "tracking/start_backfill.hpp"
 #include "tracking/tracks_csv.hpp"
 
 namespace fs = std::filesystem;
@@ -308,6 +310,57 @@ TEST(Tracker, ADotNeverSeenIsNotFoundOnASmallerSpeck) {
       with_rule, without);
   EXPECT_EQ(with_rule, 0);
   EXPECT_GT(without, 0);
+}
+
+// A take whose tags are read only from frame 8 (covered before): the tracker starts there, and
+// the frames before it, held, are filled by following the dots back from it: each within a
+// pixel of its own dot, where without the filling every marker was invalid.
+TEST(StartBackfill, TheFramesBeforeTheStartAreFollowedBackFromIt) {
+  const MarkerLayout layout = default_layout();
+  SceneOptions o;
+  std::map<std::string, Truth> first;
+  SyntheticScene(layout, o).render(0, first);
+  for (const MarkerSpec& m : layout.markers) {
+    if (!m.is_tag()) continue;
+    double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+    for (const cv::Point2d& c : first.at(m.id).corners)
+      x0 = std::min(x0, c.x), y0 = std::min(y0, c.y), x1 = std::max(x1, c.x),
+      y1 = std::max(y1, c.y);
+    const double pad = o.motion_px + 4;
+    o.occluders.push_back({{x0 - pad, y0 - pad, x1 - x0 + 2 * pad, y1 - y0 + 2 * pad}, 0, 7});
+  }
+  SyntheticScene scene(layout, o);
+  MarkerTracker tracker(layout, options_for(o));
+  StartBackfill backfill(tracker, tracker.correction_horizon());
+  std::vector<TrackedFrame> take;
+  std::vector<std::map<std::string, Truth>> truths;
+  long started_on = -1, filled_from = -1;
+  for (int k = 0; k < 14; ++k) {
+    truths.emplace_back();
+    const cv::Mat image = scene.render(k, truths.back());
+    const bool was_started = tracker.started();
+    TrackedFrame now = tracker.track(image, k, k / 30.0);
+    backfill.extend_corrections(now);
+    append_corrected(take, std::move(now));
+    if (!tracker.started()) {
+      backfill.hold(image);
+    } else if (!was_started) {
+      started_on = k;
+      filled_from = backfill.fill(std::span(take).first(take.size() - 1), take.back(), image);
+    }
+  }
+  ASSERT_EQ(started_on, 8) << "the start waits for the hidden tag";
+  EXPECT_EQ(filled_from, 0);
+  long filled = 0;
+  for (long k = 0; k < started_on; ++k)
+    for (const MarkerObservation& m : take[static_cast<size_t>(k)].markers) {
+      if (!m.valid || layout.find(m.marker)->is_tag()) continue;
+      ++filled;
+      EXPECT_LT(cv::norm(m.position - truths[static_cast<size_t>(k)].at(m.marker).position), 1.0)
+          << "frame " << k << ": " << m.marker;
+    }
+  EXPECT_EQ(filled, backfill.filled_observations());
+  EXPECT_GT(filled, 8 * 25) << "most dots of the 8 frames";
 }
 
 TEST(Tracker, EachLostReasonHasItsOwnName) {
