@@ -105,7 +105,7 @@ void run_track(const TrackArgs& args) {
   tracking::CorrectionWindow held(tracker->correction_horizon());
   // The frames before the start still held are filled by following the markers back from it.
   tracking::StartBackfill backfill(*tracker, tracker->correction_horizon());
-  long filled_from = -1;
+  long started_on = -1, filled_from = -1;  // the last start, and the first frame filled
   const auto write = [&](const std::vector<tracking::TrackedFrame>& ready) {
     for (const tracking::TrackedFrame& t : ready) {
       writer.write(t);
@@ -122,6 +122,7 @@ void run_track(const TrackArgs& args) {
       ++never_started;
       backfill.hold(f->image);
     } else if (!was_started && frame > 0) {
+      started_on = frame;
       filled_from = backfill.fill(held.held(), tracked, f->image);
       if (filled_from < frame)
         std::fprintf(stderr, "rostro track: frame %ld: frames %ld-%ld followed back from it\n",
@@ -183,9 +184,13 @@ void run_track(const TrackArgs& args) {
   if (!identified.empty()) {
     std::printf("%s\n", identified.c_str());
     if (never_started > 0 && never_started < frame) {
-      std::printf(
-          "the %ld frames before it are written with every marker invalid%s\n", never_started,
-          filled_from >= 0 && filled_from < frame ? " but those followed back from it" : "");
+      const std::string filled = filled_from < started_on
+                                     ? ", but frames " + std::to_string(filled_from) + "-" +
+                                           std::to_string(started_on - 1) +
+                                           " with the markers followed back from it"
+                                     : "";
+      std::printf("the %ld frames before it are written with every marker invalid%s\n",
+                  never_started, filled.c_str());
     }
   }
 }
