@@ -76,13 +76,8 @@ class TrackedInput {
         stop();
         break;
       }
-      const bool was_started = tracker_->started();
       tracking::TrackedFrame tracked = tracker_->track(frame->image, index_++, frame->timestamp_s);
-      backfill_->extend_corrections(tracked);
-      if (!tracker_->started())
-        backfill_->hold(frame->image);
-      else if (!was_started && tracked.frame > 0)
-        backfill_->fill(held_.held(), tracked, frame->image);
+      backfill_->take(tracked, held_.held(), frame->image);
       if (view != nullptr) {
         views_.push_back(frame->image.clone());
         tracker_->draw(views_.back(), tracked.frame);

@@ -105,7 +105,6 @@ void run_track(const TrackArgs& args) {
   tracking::CorrectionWindow held(tracker->correction_horizon());
   // The frames before the start still held are filled by following the markers back from it.
   tracking::StartBackfill backfill(*tracker, tracker->correction_horizon());
-  long started_on = -1, filled_from = -1;  // the last start, and the first frame filled
   const auto write = [&](const std::vector<tracking::TrackedFrame>& ready) {
     for (const tracking::TrackedFrame& t : ready) {
       writer.write(t);
@@ -115,19 +114,11 @@ void run_track(const TrackArgs& args) {
   while ((args.max_frames <= 0 || frame < args.max_frames) && !interrupt.requested()) {
     auto f = source->next();
     if (!f) break;
-    const bool was_started = tracker->started();
     tracking::TrackedFrame tracked = tracker->track(f->image, frame, f->timestamp_s);
-    backfill.extend_corrections(tracked);
-    if (!tracker->started()) {
-      ++never_started;
-      backfill.hold(f->image);
-    } else if (!was_started && frame > 0) {
-      started_on = frame;
-      filled_from = backfill.fill(held.held(), tracked, f->image);
-      if (filled_from < frame)
-        std::fprintf(stderr, "rostro track: frame %ld: frames %ld-%ld followed back from it\n",
-                     frame, filled_from, frame - 1);
-    }
+    if (!tracker->started()) ++never_started;
+    if (backfill.take(tracked, held.held(), f->image) > 0)
+      std::fprintf(stderr, "rostro track: frame %ld: frames %ld-%ld followed back from it\n", frame,
+                   backfill.filled_from(), frame - 1);
     // The identification is reported at the end; a check during the take that renamed a dot,
     // as it happens.
     if (!tracked.identification.empty() && tracked.identification.starts_with("identities"))
@@ -184,9 +175,9 @@ void run_track(const TrackArgs& args) {
   if (!identified.empty()) {
     std::printf("%s\n", identified.c_str());
     if (never_started > 0 && never_started < frame) {
-      const std::string filled = filled_from < started_on
-                                     ? ", but frames " + std::to_string(filled_from) + "-" +
-                                           std::to_string(started_on - 1) +
+      const std::string filled = backfill.filled_from() < backfill.started_at()
+                                     ? ", but frames " + std::to_string(backfill.filled_from()) +
+                                           "-" + std::to_string(backfill.started_at() - 1) +
                                            " with the markers followed back from it"
                                      : "";
       std::printf("the %ld frames before it are written with every marker invalid%s\n",

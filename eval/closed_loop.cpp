@@ -302,15 +302,10 @@ LoopResult run_loop_scenario(const LoopScenario& s, const FaceModel& model,
   tracking::StartBackfill backfill(*tracker, tracker->correction_horizon());
   CallbackSink sink([&](const cv::Mat& bgr) {
     const auto i = static_cast<std::size_t>(tracked.size());
-    const bool was_started = tracker->started();
     tracking::TrackedFrame now =
         tracker->track(bgr, drive.frames[i].index, static_cast<double>(i) / fps);
-    backfill.extend_corrections(now);
+    backfill.take(now, tracked, bgr);
     tracking::append_corrected(tracked, std::move(now));
-    if (!tracker->started())
-      backfill.hold(bgr);
-    else if (!was_started && i > 0)
-      backfill.fill(std::span(tracked).first(i), tracked.back(), bgr);
   });
   const SynthResult truth = synthesize(head, library, markers, drive, o, sink, [&](long done) {
     if (progress) progress(done, total);

@@ -162,18 +162,11 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
       [&](const cv::Mat& bgr) {
         if (frames) frames(bgr);
         const auto n = static_cast<long>(tracked.size());
-        const bool was_started = tracker.started();
         tracking::TrackedFrame now = tracker.track(bgr, n, static_cast<double>(n) / o.fps);
-        backfill.extend_corrections(now);
+        // Counted lost as unidentified as they came: the table says what was written.
+        row.suite.lost_by[static_cast<std::size_t>(tracking::LostReason::Unidentified)] -=
+            backfill.take(now, tracked, bgr);
         tracking::append_corrected(tracked, std::move(now));
-        if (!tracker.started())
-          backfill.hold(bgr);
-        else if (!was_started) {
-          backfill.fill(std::span(tracked).first(tracked.size() - 1), tracked.back(), bgr);
-          // Counted lost as unidentified as they came: the table says what was written.
-          row.suite.lost_by[static_cast<std::size_t>(tracking::LostReason::Unidentified)] -=
-              backfill.filled_observations();
-        }
         for (const tracking::MarkerState& m : tracker.states())
           if (!m.valid) ++row.suite.lost_by[static_cast<std::size_t>(m.lost_reason)];
       },

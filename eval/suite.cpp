@@ -29,19 +29,13 @@ class TrackingSink : public render::FrameSink {
   TrackingSink(tracking::MarkerTracker& tracker, double fps)
       : tracker_(tracker), fps_(fps), backfill_(tracker, tracker.correction_horizon()) {}
   void write(const cv::Mat& bgr) override {
-    const bool was_started = tracker_.started();
     tracking::TrackedFrame now = tracker_.track(bgr, count_, static_cast<double>(count_) / fps_);
-    backfill_.extend_corrections(now);
+    // Counted lost as unidentified as they came: the table says what was written.
+    lost_by[static_cast<std::size_t>(tracking::LostReason::Unidentified)] -=
+        backfill_.take(now, tracked, bgr);
     tracking::append_corrected(tracked, std::move(now));
     for (const tracking::MarkerState& s : tracker_.states())
       if (!s.valid) ++lost_by[static_cast<std::size_t>(s.lost_reason)];
-    if (!tracker_.started()) {
-      backfill_.hold(bgr);
-    } else if (!was_started && count_ > 0) {
-      backfill_.fill(std::span(tracked).first(tracked.size() - 1), tracked.back(), bgr);
-      lost_by[static_cast<std::size_t>(tracking::LostReason::Unidentified)] -=
-          backfill_.filled_observations();
-    }
     ++count_;
   }
   void finish() override {}

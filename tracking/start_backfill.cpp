@@ -3,11 +3,25 @@
 #include <algorithm>
 #include <set>
 #include <string>
+#include <utility>
 
 namespace rostro::tracking {
 
 StartBackfill::StartBackfill(const FaceTracker& tracker, long max_frames)
     : tracker_(tracker), max_frames_(max_frames) {}
+
+long StartBackfill::take(TrackedFrame& frame, std::span<TrackedFrame> before,
+                         const cv::Mat& image) {
+  if (!frame.corrections.empty() && frame.corrected_since == started_at_ &&
+      filled_from_ < started_at_)
+    frame.corrected_since = filled_from_;
+  const bool was_started = std::exchange(was_started_, tracker_.started());
+  if (!was_started_) {
+    hold(image);
+    return 0;
+  }
+  return was_started ? 0 : fill(before, frame, image);
+}
 
 void StartBackfill::hold(const cv::Mat& image) {
   if (max_frames_ <= 0) return;
@@ -17,11 +31,13 @@ void StartBackfill::hold(const cv::Mat& image) {
 
 long StartBackfill::fill(std::span<TrackedFrame> before, const TrackedFrame& start,
                          const cv::Mat& start_image) {
-  started_at_ = start.frame, filled_from_ = start.frame, filled_observations_ = 0;
-  const std::unique_ptr<FaceTracker> back = tracker_.started_from(start);
+  started_at_ = start.frame, filled_from_ = start.frame;
+  long filled = 0;
+  const std::unique_ptr<FaceTracker> back =
+      held_.empty() || before.empty() ? nullptr : tracker_.started_from(start);
   if (!back) {
     held_.clear();
-    return filled_from_;
+    return filled;
   }
   std::set<std::string> followed;
   for (const MarkerObservation& o : back->track(start_image, 0, 0).markers)
@@ -45,18 +61,12 @@ long StartBackfill::fill(std::span<TrackedFrame> before, const TrackedFrame& sta
         for (MarkerObservation& mine : f.markers)
           if (mine.marker == o.marker && !mine.valid) {
             mine.position = o.position, mine.valid = true, mine.quality = o.quality;
-            ++filled_observations_;
+            ++filled;
           }
     filled_from_ = f.frame;
   }
   held_.clear();
-  return filled_from_;
-}
-
-void StartBackfill::extend_corrections(TrackedFrame& frame) const {
-  if (!frame.corrections.empty() && frame.corrected_since == started_at_ &&
-      filled_from_ < started_at_)
-    frame.corrected_since = filled_from_;
+  return filled;
 }
 
 }  // namespace rostro::tracking

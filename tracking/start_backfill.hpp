@@ -28,24 +28,26 @@ class StartBackfill {
   // still rewrite.
   StartBackfill(const FaceTracker& tracker, long max_frames);
 
-  // Keeps the image of a frame the tracker has not started on (its last max_frames).
-  void hold(const cv::Mat& image);
-  // On the frame the tracker started on: follows the markers of `start` back over the held
-  // images and writes them into `before`, the frames just before `start` in frame order (the
-  // last of them the frame before it). Returns the first frame filled (start.frame: none).
-  // The held images are released.
-  long fill(std::span<TrackedFrame> before, const TrackedFrame& start, const cv::Mat& start_image);
-  // A later frame whose corrections reach back to the start (a second look): they reach the
-  // filled frames too.
-  void extend_corrections(TrackedFrame& frame) const;
-  // The observations the last fill() made valid.
-  long filled_observations() const { return filled_observations_; }
+  // Takes each frame the tracker gives out, before the consumer adds it to `before`, the frames
+  // it still holds in frame order: extends the frame's corrections to the filled frames when
+  // they reach back to the start (a second look), keeps its image while the tracker has not
+  // started (the last max_frames), and on the frame the tracker starts on follows its markers
+  // back over the held images into `before` (the last of them the frame just before it).
+  // Returns the observations made valid (0 on every frame but a start).
+  long take(TrackedFrame& frame, std::span<TrackedFrame> before, const cv::Mat& image);
+  // The first frame the last start filled (its own frame: none), -1 before any start.
+  long filled_from() const { return filled_from_; }
+  long started_at() const { return started_at_; }
 
  private:
   const FaceTracker& tracker_;
   long max_frames_;
   std::deque<cv::Mat> held_;
-  long started_at_ = -1, filled_from_ = -1, filled_observations_ = 0;
+  bool was_started_ = false;
+  long started_at_ = -1, filled_from_ = -1;
+
+  void hold(const cv::Mat& image);
+  long fill(std::span<TrackedFrame> before, const TrackedFrame& start, const cv::Mat& start_image);
 };
 
 }  // namespace rostro::tracking

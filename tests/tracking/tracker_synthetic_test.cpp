@@ -334,21 +334,15 @@ TEST(StartBackfill, TheFramesBeforeTheStartAreFollowedBackFromIt) {
   StartBackfill backfill(tracker, tracker.correction_horizon());
   std::vector<TrackedFrame> take;
   std::vector<std::map<std::string, Truth>> truths;
-  long started_on = -1, filled_from = -1;
+  long made_valid = 0;
   for (int k = 0; k < 14; ++k) {
     truths.emplace_back();
     const cv::Mat image = scene.render(k, truths.back());
-    const bool was_started = tracker.started();
     TrackedFrame now = tracker.track(image, k, k / 30.0);
-    backfill.extend_corrections(now);
+    made_valid += backfill.take(now, take, image);
     append_corrected(take, std::move(now));
-    if (!tracker.started()) {
-      backfill.hold(image);
-    } else if (!was_started) {
-      started_on = k;
-      filled_from = backfill.fill(std::span(take).first(take.size() - 1), take.back(), image);
-    }
   }
+  const long started_on = backfill.started_at(), filled_from = backfill.filled_from();
   ASSERT_EQ(started_on, 8) << "the start waits for the hidden tag";
   EXPECT_EQ(filled_from, 0);
   long filled = 0;
@@ -359,7 +353,7 @@ TEST(StartBackfill, TheFramesBeforeTheStartAreFollowedBackFromIt) {
       EXPECT_LT(cv::norm(m.position - truths[static_cast<size_t>(k)].at(m.marker).position), 1.0)
           << "frame " << k << ": " << m.marker;
     }
-  EXPECT_EQ(filled, backfill.filled_observations());
+  EXPECT_EQ(filled, made_valid);
   EXPECT_GT(filled, 8 * 25) << "most dots of the 8 frames";
 }
 
