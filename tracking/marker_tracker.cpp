@@ -222,10 +222,16 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     if (m.options.identity_check_every > 0 && followed % m.options.identity_check_every == 0 &&
         m.start_positions.empty() && m.started_at != frame)
       m.timed("check_identities", [&] { m.check_identities(); });
-    bool any =
-        std::any_of(m.states.begin(), m.states.end(), [](const MarkerState& s) { return s.valid; });
-    if (!any) {
-      m.started = false;  // everything lost: identify again from scratch
+    // A frame that kept fewer markers than a start needs lost the face (a motion past LK's
+    // reach, most of the face covered): its few are checked against nothing, and one that
+    // slid onto a neighbour's dot looks as sure as one that followed its own. Everything is
+    // lost and identified again from scratch.
+    const auto kept = static_cast<size_t>(std::count_if(
+        m.states.begin(), m.states.end(), [](const MarkerState& s) { return s.valid; }));
+    if (!m.enough(kept)) {
+      for (MarkerState& s : m.states)
+        if (s.valid) s.valid = false, s.lost_reason = LostReason::TooFew;
+      m.started = false;
     } else {
       const cv::Rect now = m.needed_region();
       if (!m.fits(m.region.size(), now)) {
@@ -412,6 +418,8 @@ const char* to_string(LostReason r) {
       return "identity";
     case LostReason::TagLost:
       return "tag lost";
+    case LostReason::TooFew:
+      return "too few";
   }
   return "?";
 }

@@ -199,8 +199,9 @@ enum class LostReason {
   LidBand,        // a lid dot off its band (lid_overshoot_fraction, lid_reach)
   Identity,       // its dot took another name at an identity check during the take
   TagLost,        // a tag not detected again near where LK moved its corners
+  TooFew,         // followed, but in a frame that kept fewer markers than a start needs
 };
-inline constexpr int kLostReasonCount = static_cast<int>(LostReason::TagLost) + 1;
+inline constexpr int kLostReasonCount = static_cast<int>(LostReason::TooFew) + 1;
 // A few words: "round trip", "lid band", ...
 const char* to_string(LostReason reason);
 

@@ -217,6 +217,46 @@ TEST(Tracker, EveryLostMarkerNamesTheRuleThatDroppedIt) {
   EXPECT_GT(hidden, 0);
 }
 
+// A frame where the following keeps fewer markers than a start needs (most of the face
+// covered at once, or a motion past LK's reach) gives none of them: with nothing beside them
+// they are checked against nothing, and one that slid onto a neighbour's dot looks as sure as
+// one that kept its own. The face is identified afresh once it is seen again.
+TEST(Tracker, AFrameKeepingFewerMarkersThanAStartNeedsGivesNone) {
+  const MarkerLayout layout = default_layout();
+  SceneOptions o;
+  o.motion_px = 0, o.expression_px = 0;  // still dots, so what the cover leaves is known
+  std::map<std::string, Truth> at_rest;
+  SyntheticScene(layout, o).render(0, at_rest);
+  // Frame 10 covered above a line between the second and third lowest markers: two left.
+  std::vector<double> ys;
+  for (const auto& [id, t] : at_rest) ys.push_back(t.position.y);
+  std::sort(ys.rbegin(), ys.rend());
+  const double cut = (ys[1] + ys[2]) / 2;
+  o.occluders = {{{0, 0, static_cast<double>(o.size.width), cut}, 10, 10}};
+  SyntheticScene scene(layout, o);
+  MarkerTracker tracker(layout, options_for(o));
+  int back_at = -1;
+  for (int k = 0; k < 16; ++k) {
+    std::map<std::string, Truth> truth;
+    const TrackedFrame tf = tracker.track(scene.render(k, truth), k, k / 30.0);
+    long valid = 0, visible = 0;
+    for (const MarkerObservation& m : tf.markers) valid += m.valid;
+    for (const auto& [id, t] : truth) visible += !t.hidden;
+    if (k < 10) {
+      EXPECT_EQ(valid, static_cast<long>(tf.markers.size())) << "frame " << k;
+    } else if (k == 10) {
+      ASSERT_EQ(visible, 2) << "the cover should leave two markers in sight";
+      EXPECT_EQ(valid, 0) << "frame 10 gave markers it could check against nothing";
+      long too_few = 0;
+      for (const MarkerState& s : tracker.states()) too_few += s.lost_reason == LostReason::TooFew;
+      EXPECT_GE(too_few, 1) << "no marker followed into frame 10 was dropped as one of too few";
+    } else if (back_at < 0 && valid == static_cast<long>(tf.markers.size())) {
+      back_at = k;
+    }
+  }
+  EXPECT_EQ(back_at, 11) << "not identified afresh on the first frame seen whole again";
+}
+
 // An edge that cuts into a followed dot (a hand arriving) shrinks its blob and pulls its
 // centre away from the bite: the dot is dropped for those frames (min_recent_size), where
 // without the rule it is reported off its place.
