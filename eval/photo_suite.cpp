@@ -8,11 +8,10 @@
 #include <set>
 
 #include "eval/scenario_file.hpp"
+#include "eval/tracked_take.hpp"
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/json_file.hpp"
-#include "tracking/name_corrections.hpp"
-#include "tracking/start_backfill.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -152,34 +151,26 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
   PhotoSceneOptions o = s.scene;
   o.photo = faces / s.scene.photo;
   tracking::MarkerTracker tracker(layout, tracker_options);
-  // As far back as `rostro track` holds frames.
-  tracking::StartBackfill backfill(tracker, tracker.correction_horizon());
-  std::vector<tracking::TrackedFrame> tracked;
-  PhotoRow row;
+  TrackedTake take(tracker, o.fps);
   const long total = std::max(1L, std::lround(o.seconds * o.fps));
   const PhotoSceneResult scene = render_photo_scene(
       o, layout,
       [&](const cv::Mat& bgr) {
         if (frames) frames(bgr);
-        const auto n = static_cast<long>(tracked.size());
-        tracking::TrackedFrame now = tracker.track(bgr, n, static_cast<double>(n) / o.fps);
-        // Counted lost as unidentified as they came: the table says what was written.
-        row.suite.lost_by[static_cast<std::size_t>(tracking::LostReason::Unidentified)] -=
-            backfill.take(now, tracked, bgr);
-        tracking::append_corrected(tracked, std::move(now));
-        for (const tracking::MarkerState& m : tracker.states())
-          if (!m.valid) ++row.suite.lost_by[static_cast<std::size_t>(m.lost_reason)];
+        take.add(bgr);
       },
       [&](long done) {
         if (progress) progress(done, total);
       });
+  PhotoRow row;
+  row.suite.lost_by = take.lost_by();
   row.suite.name = s.name;
   row.suite.title = s.title;
-  row.suite.frames = static_cast<long>(tracked.size());
-  row.suite.result = evaluate_tracks(scene.truth, tracked);
-  count_hidden_and_reacquire(scene.truth, tracked, row);
+  row.suite.frames = static_cast<long>(take.frames().size());
+  row.suite.result = evaluate_tracks(scene.truth, take.frames());
+  count_hidden_and_reacquire(scene.truth, take.frames(), row);
   row.truth = scene.truth;
-  row.tracks = std::move(tracked);
+  row.tracks = take.take_frames();
   return row;
 }
 

@@ -9,14 +9,13 @@
 #include <sstream>
 
 #include "eval/scenario_file.hpp"
+#include "eval/tracked_take.hpp"
 #include "facecore/atomic_file.hpp"
 #include "facecore/data_path.hpp"
 #include "facecore/error.hpp"
 #include "facecore/fap_io.hpp"
 #include "facecore/json_file.hpp"
 #include "tracking/marker_tracker.hpp"
-#include "tracking/name_corrections.hpp"
-#include "tracking/start_backfill.hpp"
 
 namespace rostro::eval {
 namespace {
@@ -26,28 +25,13 @@ using nlohmann::json;
 // A frame sink that tracks each frame as it is rendered: no clip is kept in memory or on disk.
 class TrackingSink : public render::FrameSink {
  public:
-  TrackingSink(tracking::MarkerTracker& tracker, double fps)
-      : tracker_(tracker), fps_(fps), backfill_(tracker, tracker.correction_horizon()) {}
-  void write(const cv::Mat& bgr) override {
-    tracking::TrackedFrame now = tracker_.track(bgr, count_, static_cast<double>(count_) / fps_);
-    // Counted lost as unidentified as they came: the table says what was written.
-    lost_by[static_cast<std::size_t>(tracking::LostReason::Unidentified)] -=
-        backfill_.take(now, tracked, bgr);
-    tracking::append_corrected(tracked, std::move(now));
-    for (const tracking::MarkerState& s : tracker_.states())
-      if (!s.valid) ++lost_by[static_cast<std::size_t>(s.lost_reason)];
-    ++count_;
-  }
+  explicit TrackingSink(TrackedTake& take) : take_(take) {}
+  void write(const cv::Mat& bgr) override { take_.add(bgr); }
   void finish() override {}
-  long frames_written() const override { return count_; }
-  std::vector<tracking::TrackedFrame> tracked;
-  std::array<long, tracking::kLostReasonCount> lost_by{};
+  long frames_written() const override { return static_cast<long>(take_.frames().size()); }
 
  private:
-  tracking::MarkerTracker& tracker_;
-  double fps_;
-  tracking::StartBackfill backfill_;  // as far back as `rostro track` holds frames
-  long count_ = 0;
+  TrackedTake& take_;
 };
 
 SuiteScenario parse_scenario(const json& j, const json& defaults, const std::string& where) {
@@ -131,7 +115,8 @@ SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
   o.dark_dots = layout.polarity == tracking::DotPolarity::Dark;
   const auto markers = place_markers(model, layout);
   tracking::MarkerTracker tracker(layout, tracker_options);
-  TrackingSink sink(tracker, drive.header.fps);
+  TrackedTake take(tracker, drive.header.fps);
+  TrackingSink sink(take);
   const long total = drive.header.frame_count;
   const SynthResult truth = synthesize(model, library, markers, drive, o, sink, [&](long done) {
     if (progress) progress(done, total);
@@ -140,8 +125,8 @@ SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
   row.name = s.name;
   row.title = s.title;
   row.frames = total;
-  row.result = evaluate_tracks(truth.truth, sink.tracked);
-  row.lost_by = sink.lost_by;
+  row.result = evaluate_tracks(truth.truth, take.frames());
+  row.lost_by = take.lost_by();
   return row;
 }
 
