@@ -42,12 +42,12 @@ long StartBackfill::fill(std::span<TrackedFrame> before, const TrackedFrame& sta
   std::set<std::string> followed;
   for (const MarkerObservation& o : back->track(start_image, 0, 0).markers)
     if (o.valid) followed.insert(o.marker);
+  const MarkerLayout& layout = tracker_.layout();
   const size_t n = std::min(before.size(), held_.size());
   for (size_t k = 1; k <= n && back->started(); ++k) {
     const TrackedFrame step =
         back->track(held_[held_.size() - k], static_cast<long>(k), static_cast<double>(k));
     // A tag lost is covered or blurred past reading, and no other marker's place is taken.
-    const MarkerLayout& layout = tracker_.layout();
     for (const MarkerObservation& o : step.markers)
       if (!o.valid && layout.find(o.marker) && layout.find(o.marker)->is_tag())
         followed.erase(o.marker);
