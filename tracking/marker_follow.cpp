@@ -1,6 +1,10 @@
 // Following the markers from one frame to the next: LK's round trip, each dot snapped to its
 // measured centre, the tags aligned, and the dots that jumped, coincide or left their lid's
 // band dropped.
+#include <algorithm>
+#include <array>
+#include <span>
+
 #include "tracking/marker_tracker_impl.hpp"
 #include "tracking/order_statistic.hpp"
 
@@ -167,15 +171,19 @@ bool MarkerTracker::Impl::align_tag(size_t i, const std::array<cv::Point2d, 4>& 
 }
 
 void MarkerTracker::Impl::drop_jumped(const Flow& f) {
-  std::vector<cv::Point2d> moved(states.size());
+  // Kept from frame to frame: this runs for every dot on every frame.
+  thread_local std::vector<cv::Point2d> moved;
+  thread_local std::vector<std::pair<double, size_t>> near;
+  thread_local std::vector<size_t> jumped;
+  moved.assign(states.size(), {});
+  jumped.clear();
   for (size_t k = 0; k < f.before.size(); ++k)
     if (!states[f.owner[k]].spec->is_tag())
       moved[f.owner[k]] = states[f.owner[k]].position - cv::Point2d(f.before[k]);
-  std::vector<size_t> jumped;
+  constexpr size_t kMostNeighbours = 6;
   for (size_t i = 0; i < states.size(); ++i) {
     if (!states[i].valid || states[i].spec->is_tag() || !f.was_valid[i]) continue;
     // The lower lip by the jaw's dots while three of them were followed, else by any.
-    std::vector<std::pair<double, size_t>> near;
     for (const bool apart : {true, false}) {
       near.clear();
       for (size_t j = 0; j < states.size(); ++j)
@@ -185,11 +193,12 @@ void MarkerTracker::Impl::drop_jumped(const Flow& f) {
       if (near.size() >= 3 || !at_lower_lip(i)) break;
     }
     if (near.size() < 3) continue;
-    std::sort(near.begin(), near.end());
-    if (near.size() > 6) near.resize(6);
-    std::vector<double> xs, ys;
-    for (const auto& [d, j] : near) xs.push_back(moved[j].x), ys.push_back(moved[j].y);
-    const cv::Point2d typical(median(std::move(xs)), median(std::move(ys)));
+    const size_t n = std::min(near.size(), kMostNeighbours);
+    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(n), near.end());
+    std::array<double, kMostNeighbours> xs, ys;
+    for (size_t k = 0; k < n; ++k) xs[k] = moved[near[k].second].x, ys[k] = moved[near[k].second].y;
+    const cv::Point2d typical(median_in_place(std::span(xs.data(), n)),
+                              median_in_place(std::span(ys.data(), n)));
     if (cv::norm(moved[i] - typical) >
         std::max(options.max_relative_motion_px * px, options.max_relative_motion * spacing[i]))
       jumped.push_back(i);

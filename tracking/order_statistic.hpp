@@ -4,6 +4,7 @@
 // in linear time; eval/error_stats.hpp interpolates instead, for reported figures.
 
 #include <algorithm>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -22,6 +23,15 @@ inline double order_statistic(std::vector<double> values, double share, double f
 // order_statistic(values, 0.5, 0).
 inline double median(std::vector<double> values) {
   return order_statistic(std::move(values), 0.5, 0);
+}
+
+// median(values) without a copy: `values` is reordered. For the small samples the tracker
+// judges every marker by on every frame.
+inline double median_in_place(std::span<double> values) {
+  if (values.empty()) return 0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
 }
 
 }  // namespace rostro::tracking
