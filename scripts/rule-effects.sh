@@ -20,7 +20,6 @@ rules=(
   "eyes.inner_corners_raise_share|--tracker-option eyes.inner_corners_raise_share=false|still|data/eval/closed_loop_1280x720.json|close_t_l_eyelid close_t_r_eyelid"
   "eyes.inner_corners_symmetric_centre|--tracker-option eyes.inner_corners_symmetric_centre=false|fear||head_yaw head_pitch"
   "eyes.inner_corner_max_elongation_large|--tracker-option eyes.inner_corner_max_elongation_large=3|turns|data/eval/closed_loop_1280x720.json|close_t_l_eyelid close_t_r_eyelid"
-  "eyes.max_lid_surround|--tracker-option eyes.max_lid_surround=1|joy-turns||close_b_l_eyelid close_b_r_eyelid"
   "lower_lip.together|--tracker-option lower_lip.together=false|joy-turns||raise_b_lip_lm_o raise_b_lip_rm_o"
   "lower_lip.with_the_jaw|--tracker-option lower_lip.with_the_jaw=false|fear||open_jaw raise_b_midlip_o"
   "align_tags|--tracker-option align_tags=false|joy||head_pitch head_yaw"

@@ -21,15 +21,13 @@ double cross(cv::Point2d a, cv::Point2d b) {
 void EyeOptions::validate() const {
   OptionCheck("EyeOptions")
       .at_least("inner_corner_max_elongation_large", inner_corner_max_elongation_large, 1)
-      .positive("max_eye_snap", max_eye_snap)
       .not_negative("lid_sideways_fraction", lid_sideways_fraction)
       .not_negative("lid_overshoot_fraction", lid_overshoot_fraction)
       .positive("lid_reach", lid_reach)
       .at_least("max_dot_growth_found", max_dot_growth_found, 1)
       .not_negative("eye_size_memory_frames", eye_size_memory_frames)
       .at_least("edge_on_elongation", edge_on_elongation, 1)
-      .at_least("max_lid_elongation", max_lid_elongation, 1)
-      .positive("max_lid_surround", max_lid_surround);
+      .at_least("max_lid_elongation", max_lid_elongation, 1);
 }
 
 namespace internal {

@@ -37,14 +37,6 @@ struct EyeOptions {
   // as wide, and rejected it was found again on the lash line. At 640x480 a blob that long is
   // the dot merged with the slit's corner line, hence the size condition.
   double inner_corner_max_elongation_large = 4;
-  // Eye dots (lids, corners): the farthest a followed dot's measured centre may lie from where LK
-  // moved it, pixels at TrackerOptions::reference_dot_px (scaled with the dots' size, as
-  // TrackerOptions::max_snap). The two agree to a fraction of a pixel nearly always; a centre
-  // farther off is the dot measured together with a dark neighbour it touches for the frame: an
-  // inner eye-corner dot seen edge-on with the eye slit's corner wedge (then followed pixels into
-  // the eye for many frames), a lid dot with the iris. Such a dot is reported lost and looked for
-  // again. Large values: TrackerOptions::max_snap alone.
-  double max_eye_snap = 1.5;
   // A lost lid dot is carried from where it was last seen, and found again only this far
   // (fraction of its spacing) to the side of there, along its eye's corner-to-corner line.
   double lid_sideways_fraction = 0.25;
@@ -73,12 +65,6 @@ struct EyeOptions {
   // growth check above passes it, but is a tall blob, taller than a lone lid dot gets under
   // the closed loop's head turns (yaw +-25, pitch +-15).
   double max_lid_elongation = 1.8;
-  // Lid dots: largest median contrast of the ring just outside the blob, as a share of its own
-  // (Dot::surround; DotOptions::max_surround, 0.55, holds for every dot). A lower-lid dot merged
-  // with the pupil above it (the lid raised in a smile, the head pitched) is measured high up,
-  // its centre pixels into the eye, inside the dark iris, whose ring is darker than a lone lid
-  // dot's ever is at 640x480 (a handful of frames in thousands pass it at 1280x720).
-  double max_lid_surround = 0.45;
 
   // Throws InputError naming the first option out of range ("EyeOptions::...").
   void validate() const;

@@ -124,9 +124,7 @@ void MarkerTracker::Impl::snap_dots(const Flow& f) {
     }
     const cv::Point2d lk(f.after[k]);
     const double snap = cv::norm(d->center - lk);
-    s.lost_reason = snap > max_snap()                    ? LostReason::Snap
-                    : at_eye(i) && snap > max_eye_snap() ? LostReason::EyeSnap
-                                                         : dot_check(i, *d, true);
+    s.lost_reason = snap > max_snap() ? LostReason::Snap : dot_check(i, *d, true);
     if (s.lost_reason != LostReason::None) continue;
     s.valid = true;
     s.position = d->center;

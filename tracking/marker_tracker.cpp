@@ -151,7 +151,6 @@ int MarkerTracker::Impl::lk_window() const {
 
 LostReason MarkerTracker::Impl::dot_check(size_t i, const Dot& d, bool followed) const {
   if (is_lid(i) && d.elongation > options.eyes.max_lid_elongation) return LostReason::LidElongation;
-  if (is_lid(i) && d.surround > options.eyes.max_lid_surround) return LostReason::LidSurround;
   if (!(d.contrast >= options.min_contrast_ratio * reference_contrast[i]))
     return LostReason::Contrast;
   if (!(d.diameter >= 0.5 * reference_diameter[i])) return LostReason::Shrunk;
@@ -342,7 +341,6 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, align_tags),
       ROSTRO_NAMED_OPTION(O, search_fraction),
       ROSTRO_NAMED_OPTION(O, found_look_allowance),
-      ROSTRO_NAMED_OPTION(O, eyes.max_eye_snap),
       ROSTRO_NAMED_OPTION(O, eyes.lid_sideways_fraction),
       ROSTRO_NAMED_OPTION(O, eyes.lid_overshoot_fraction),
       ROSTRO_NAMED_OPTION(O, eyes.lid_reach),
@@ -359,7 +357,6 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, eyes.eye_size_memory_frames),
       ROSTRO_NAMED_OPTION(O, eyes.edge_on_elongation),
       ROSTRO_NAMED_OPTION(O, eyes.max_lid_elongation),
-      ROSTRO_NAMED_OPTION(O, eyes.max_lid_surround),
       ROSTRO_NAMED_OPTION(O, min_identified),
       ROSTRO_NAMED_OPTION(O, identification.gate),
       ROSTRO_NAMED_OPTION(O, identification.size_factor),
@@ -396,12 +393,8 @@ const char* to_string(LostReason r) {
       return "no dot";
     case LostReason::Snap:
       return "snap";
-    case LostReason::EyeSnap:
-      return "eye snap";
     case LostReason::LidElongation:
       return "lid elongation";
-    case LostReason::LidSurround:
-      return "lid surround";
     case LostReason::Contrast:
       return "contrast";
     case LostReason::Shrunk:

@@ -188,9 +188,7 @@ enum class LostReason {
   RoundTrip,      // LK's forward-backward round trip failed (max_fb_error)
   NoDot,          // no dot passing DotOptions' checks within max_snap of where LK moved it
   Snap,           // its dot's centre farther than max_snap from where LK moved it
-  EyeSnap,        // an eye dot's centre farther than max_eye_snap from there
   LidElongation,  // a lid dot's blob longer than max_lid_elongation
-  LidSurround,    // a lid dot's ring darker than max_lid_surround
   Contrast,       // below min_contrast_ratio of its contrast at the start
   Shrunk,         // under half its start size, or min_recent_size of its last (or given) size
   Growth,         // over twice its start size; an eye dot found again, past max_dot_growth_found

@@ -303,7 +303,6 @@ struct MarkerTracker::Impl {
   bool large_dots = false;  // the dots at the start at least reference_dot_px wide
   double max_fb_error() const { return options.max_fb_error * px; }
   double max_snap() const { return options.max_snap * px; }
-  double max_eye_snap() const { return options.eyes.max_eye_snap * px; }
   int lk_window() const;
 
   // The first check dot d fails as marker i (None: it passes). Any dot may be at most twice its

@@ -373,8 +373,9 @@ TEST_F(ClosedLoopRun, HeadYawInFap49ReadsBackWithItsSign) {
 // the head turns back, the left inner eye-corner dot is seen edge-on beside the eye slit's
 // dark corner. For one frame (84) its blob took in the corner and was centred 2.35 px into the
 // eye while LK followed the dot itself to 0.2 px, and the dot was then followed there, 2-2.5 px
-// off, to the end of the cut (TrackerOptions::max_eye_snap). Every frame it is reported in
-// must be near its true place.
+// off, to the end of the cut (a tighter snap limit for the eye dots was made for it; with the
+// eye dots painted beside the contour the case no longer arises, and the limit was removed).
+// Every frame it is reported in must be near its true place.
 TEST_F(ClosedLoopRun, EdgeOnEyeCornerIsNotFollowedIntoTheSlit) {
   LoopScenario turns;
   for (const LoopScenario& s : load_closed_loop(default_closed_loop_path()).scenarios)
