@@ -1,8 +1,9 @@
 #pragma once
 // Where a lid dot can be: the eye's dots (MPEG-4 group 3) told apart, each lid dot's eye
-// corners found in the layout, and a point's place relative to the line through those corners.
-// The tracker uses it to keep a lid dot off the brow's, the other lid's and a corner's dot
-// (rostro::tracking::internal). EyeOptions, the eye dots' rules, are part of TrackerOptions.
+// corners found in the layout, and the direction of the line through those corners. The
+// tracker uses it to find a lost lid dot again only near the line it is carried along, not on a
+// corner's dot (rostro::tracking::internal). EyeOptions, the eye dots' rules, are part of
+// TrackerOptions.
 
 #include <cstddef>
 #include <opencv2/core.hpp>
@@ -40,10 +41,6 @@ struct EyeOptions {
   // A lost lid dot is carried from where it was last seen, and found again only this far
   // (fraction of its spacing) to the side of there, along its eye's corner-to-corner line.
   double lid_sideways_fraction = 0.25;
-  // A lid dot is kept (while both eye corners are followed) and found again only on its own
-  // side of its eye's corner line, or this fraction of its spacing past it, ...
-  double lid_overshoot_fraction = 0.15;
-  double lid_reach = 1.7;  // and at most this many times its distance from the line at the start
   // Eye dots (lids, corners) found again after a loss: largest size over the larger of their
   // size when last seen and at the start (scaled as the face). A larger blob is the dot merged
   // with a dark neighbour (the pupil, the other lid's dot in a blink), whose centre is
@@ -94,17 +91,6 @@ class LidGeometry {
   // `start_to_now` maps the start positions; empty without corners.
   std::optional<cv::Point2d> axis(size_t i, const std::vector<cv::Point2d>& start,
                                   const cv::Matx23d& start_to_now) const;
-
-  // How far `at` lies from the line through the eye's corners now (`inner`, `outer`), positive
-  // on the side lid dot i was at the start, and how far the dot was from it then (positive);
-  // empty without corners or when either line has no length.
-  struct LineOffset {
-    double now = 0;
-    double at_start = 0;
-  };
-  std::optional<LineOffset> offset_from_corner_line(size_t i, const std::vector<cv::Point2d>& start,
-                                                    cv::Point2d at, cv::Point2d inner,
-                                                    cv::Point2d outer) const;
 
  private:
   std::vector<std::optional<std::pair<size_t, size_t>>> corners_;

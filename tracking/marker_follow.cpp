@@ -21,7 +21,6 @@ void MarkerTracker::Impl::follow() {
   timed("follow_tags", [&] { follow_tags(flow, tags); });
   timed("drop_jumped", [&] { drop_jumped(flow); });
   timed("drop_coincident", [&] { drop_coincident(); });
-  timed("drop_off_lid_band", [&] { drop_off_lid_band(); });
   timed("reacquire_lost", [&] { reacquire_lost(flow); });
 }
 
@@ -214,12 +213,6 @@ void MarkerTracker::Impl::drop_coincident() {
         a.lost_reason = b.lost_reason = LostReason::Coincident;
       }
     }
-}
-
-void MarkerTracker::Impl::drop_off_lid_band() {
-  for (size_t i = 0; i < states.size(); ++i)
-    if (states[i].valid && is_lid(i) && !in_its_lid_band(i, states[i].position))
-      states[i].valid = false, states[i].lost_reason = LostReason::LidBand;
 }
 
 }  // namespace rostro::tracking

@@ -186,8 +186,6 @@ void MarkerTracker::Impl::reacquire(size_t i) {
   for (const Dot& d : dots_near(gray, expected, radius, dot_options(i), 4, least)) {
     if (cv::norm(d.center - expected) > radius || !dot_passes(i, d, false)) continue;
     if (!belongs_to(i, d.center, scale)) continue;
-    // A lid dot only where a lid can be: not on the brow's, the other lid's or a corner's dot.
-    if (is_lid(i) && !in_its_lid_band(i, d.center)) continue;
     if (carried_now[i] && is_lid(i) && !along_its_lid_line(i, d.center, scale)) continue;
     // Last: it measures the blob again.
     if (!looks_like_itself(i, d)) continue;
@@ -225,18 +223,6 @@ bool MarkerTracker::Impl::along_its_lid_line(size_t i, cv::Point2d at, double sc
   if (!axis) return true;
   return std::abs((at - predicted_at(i)).dot(*axis)) <=
          options.eyes.lid_sideways_fraction * spacing[i] * scale;
-}
-
-bool MarkerTracker::Impl::in_its_lid_band(size_t i, cv::Point2d at) const {
-  const auto& corners = lids.corners(i);
-  if (!corners) return true;
-  const auto [inner, outer] = *corners;
-  if (!states[inner].valid || !states[outer].valid) return true;
-  const auto offset = lids.offset_from_corner_line(i, reference, at, states[inner].position,
-                                                   states[outer].position);
-  if (!offset) return true;
-  return offset->now >= -options.eyes.lid_overshoot_fraction * spacing[i] * face_scale &&
-         offset->now <= options.eyes.lid_reach * offset->at_start * face_scale;
 }
 
 bool MarkerTracker::Impl::apart_from_lower_lip(size_t i, size_t j) const {

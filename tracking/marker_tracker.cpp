@@ -342,8 +342,6 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, search_fraction),
       ROSTRO_NAMED_OPTION(O, found_look_allowance),
       ROSTRO_NAMED_OPTION(O, eyes.lid_sideways_fraction),
-      ROSTRO_NAMED_OPTION(O, eyes.lid_overshoot_fraction),
-      ROSTRO_NAMED_OPTION(O, eyes.lid_reach),
       ROSTRO_NAMED_OPTION(O, max_relative_motion),
       ROSTRO_NAMED_OPTION(O, max_relative_motion_px),
       ROSTRO_NAMED_OPTION(O, lower_lip.together),
@@ -405,8 +403,6 @@ const char* to_string(LostReason r) {
       return "jump";
     case LostReason::Coincident:
       return "coincident";
-    case LostReason::LidBand:
-      return "lid band";
     case LostReason::Identity:
       return "identity";
     case LostReason::TagLost:

@@ -194,13 +194,12 @@ enum class LostReason {
   Growth,         // over twice its start size; an eye dot found again, past max_dot_growth_found
   Jump,           // moved unlike its neighbours (max_relative_motion, max_relative_motion_px)
   Coincident,     // on the spot of another dot (both are dropped)
-  LidBand,        // a lid dot off its band (lid_overshoot_fraction, lid_reach)
   Identity,       // its dot took another name at an identity check during the take
   TagLost,        // a tag not detected again near where LK moved its corners
   TooFew,         // followed, but in a frame that kept fewer markers than a start needs
 };
 inline constexpr int kLostReasonCount = static_cast<int>(LostReason::TooFew) + 1;
-// A few words: "round trip", "lid band", ...
+// A few words: "round trip", "too few", ...
 const char* to_string(LostReason reason);
 
 // One marker's state as the overlay draws it.

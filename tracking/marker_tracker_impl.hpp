@@ -425,10 +425,6 @@ struct MarkerTracker::Impl {
   // 4b. Two dots on one spot: neither can be trusted (an identity swap is worse than a gap).
   void drop_coincident();
 
-  // 4c. A followed lid dot that left its band (in_its_lid_band) is not the lid's: a take
-  //     starting in a squint names the brow's dot the upper lid's.
-  void drop_off_lid_band();
-
   // 5. Look again for the markers that are not valid, where their neighbours put them.
   void reacquire_lost(const Flow& f);
   int frames_since_tag_detection = 0;
@@ -507,13 +503,6 @@ struct MarkerTracker::Impl {
   bool along_its_lid_line(size_t i, cv::Point2d at, double scale) const;
 
   LidGeometry lids;  // each lid dot's eye corners (lid_geometry.hpp)
-
-  // An upper-lid dot lies above its eye's corner line and a lower-lid dot below it, even in a
-  // blink (the lids meet near the line, a fraction of a spacing off at most), and not much
-  // farther from it than at the start (the brow is farther): a dot elsewhere is the other
-  // lid's, the brow's or a corner's. Checked only while both corners are followed: a line
-  // through predicted corners tilts too much under head turns to tell.
-  bool in_its_lid_band(size_t i, cv::Point2d at) const;
 
   // ---- the lower lip (lower_lip_search.hpp) ---------------------------------------------
 

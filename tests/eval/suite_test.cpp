@@ -73,12 +73,12 @@ TEST(Suite, LossTableHasAColumnPerReasonCounted) {
   a.name = "still", a.title = "still head";
   b.name = "turns", b.title = "head turns";
   a.lost_by[static_cast<std::size_t>(tracking::LostReason::Jump)] = 3;
-  b.lost_by[static_cast<std::size_t>(tracking::LostReason::LidBand)] = 12;
+  b.lost_by[static_cast<std::size_t>(tracking::LostReason::TagLost)] = 12;
   EXPECT_EQ(loss_table_markdown({a, b}),
-            "| scenario | jump | lid band |\n|---|---:|---:|\n| still head | 3 | 0 |\n"
+            "| scenario | jump | tag lost |\n|---|---:|---:|\n| still head | 3 | 0 |\n"
             "| head turns | 0 | 12 |\n");
   EXPECT_EQ(loss_table_text({a, b}),
-            "scenario     jump lid band\nstill           3        0\nturns           0       12\n");
+            "scenario     jump tag lost\nstill           3        0\nturns           0       12\n");
 }
 
 // The fast-mouth scenario, its first second: 0.4 s of neutral face, named on frame 0 with every

@@ -52,28 +52,5 @@ TEST(LidGeometryTest, AxisFollowsTheMapFromTheStart) {
   EXPECT_FALSE(lids.axis(kRightLid, kStart, turn).has_value());
 }
 
-TEST(LidGeometryTest, OffsetIsPositiveOnTheLidsOwnSide) {
-  const LidGeometry lids(kPoints);
-  const cv::Point2d inner = kStart[kLeftInner], outer = kStart[kLeftOuter];
-  const auto at_start =
-      lids.offset_from_corner_line(kLeftLid, kStart, kStart[kLeftLid], inner, outer);
-  ASSERT_TRUE(at_start.has_value());
-  EXPECT_NEAR(at_start->at_start, 10, 1e-12);
-  EXPECT_NEAR(at_start->now, 10, 1e-12);
-  // Below the line (the lower lid's side) is negative for the upper lid.
-  const auto below = lids.offset_from_corner_line(kLeftLid, kStart, {350, 204}, inner, outer);
-  ASSERT_TRUE(below.has_value());
-  EXPECT_NEAR(below->now, -4, 1e-12);
-  // The corners moved and the line tilted: distances are taken from the line now.
-  const cv::Point2d inner_now(320, 210), outer_now(380, 210);
-  const auto moved =
-      lids.offset_from_corner_line(kLeftLid, kStart, {350, 205}, inner_now, outer_now);
-  ASSERT_TRUE(moved.has_value());
-  EXPECT_NEAR(moved->now, 5, 1e-12);
-  // Corners on one point give no line.
-  EXPECT_FALSE(
-      lids.offset_from_corner_line(kLeftLid, kStart, {350, 205}, inner_now, inner_now).has_value());
-}
-
 }  // namespace
 }  // namespace rostro::tracking::internal

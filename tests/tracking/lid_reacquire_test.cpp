@@ -1,6 +1,5 @@
 // Lid dots lost and found again, on flat drawings of the layout whose eye dots drift away from
-// their neighbours as a turned head's eyes do (they sit at another depth), and lid dots that
-// leave the band a lid can be in.
+// their neighbours as a turned head's eyes do (they sit at another depth).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -88,26 +87,6 @@ TEST(LidReacquire, LostLidFoundAgainWhereItWasLastSeen) {
       }
     }
   }
-}
-
-// The upper lid's dot rises steadily from frame 5 (0.5 mm a frame) to well above its start
-// height over the eye's corner line: past the band a lid can be in (by then it is the
-// brow's dot, as when a take starts in a squint), so it must be reported lost.
-std::optional<cv::Point2d> rising_lid(const MarkerSpec& m, int k) {
-  cv::Point2d mm = m.frontal();
-  if (m.id == "lid_l_up") mm.y -= 0.5 * std::clamp(k - 5, 0, 20);
-  return mm;
-}
-
-TEST(LidReacquire, LidDotFarAboveItsBandIsLost) {
-  const DrawnRun run = track(rising_lid, 30);
-  // Frame 4: at its start place; frame 29: 10 mm higher, 16 mm above the corner line (the
-  // start: 6 mm).
-  EXPECT_TRUE(run.seen[4].count("lid_l_up"));
-  for (size_t k = 26; k < 30; ++k) EXPECT_FALSE(run.seen[k].count("lid_l_up")) << "frame " << k;
-  // The other eye dots are followed throughout.
-  for (const char* id : {"lid_l_low", "eye_l_in", "eye_l_out"})
-    EXPECT_TRUE(run.seen[29].count(id)) << id;
 }
 
 // The pixel-valued options hold for 8-pixel dots and grow with the dots measured at the start:

@@ -401,7 +401,7 @@ TEST(Tracker, EachLostReasonHasItsOwnName) {
   std::set<std::string> names;
   for (int k = 0; k < kLostReasonCount; ++k) names.insert(to_string(static_cast<LostReason>(k)));
   EXPECT_EQ(names.size(), static_cast<size_t>(kLostReasonCount));
-  EXPECT_STREQ(to_string(LostReason::LidBand), "lid band");
+  EXPECT_STREQ(to_string(LostReason::TooFew), "too few");
 }
 
 // A layout of dots alone is identified by the dots' arrangement; one with tags waits for them
