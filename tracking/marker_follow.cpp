@@ -1,6 +1,5 @@
 // Following the markers from one frame to the next: LK's round trip, each dot snapped to its
-// measured centre, the tags aligned, and the dots that jumped, coincide or left their lid's
-// band dropped.
+// measured centre, the tags aligned, and the dots that jumped or coincide dropped.
 #include <algorithm>
 #include <array>
 #include <span>

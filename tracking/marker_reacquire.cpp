@@ -67,7 +67,6 @@ void MarkerTracker::Impl::predict_lost() {
   prediction_fit.assign(n, {});
   has_prediction.assign(n, false);
   predicted.assign(n, {});
-  carried_now.assign(n, false);
   std::vector<cv::Point2d> from, to;
   for (size_t j = 0; j < n; ++j)
     if (states[j].valid) from.push_back(reference[j]), to.push_back(states[j].position);
@@ -105,7 +104,6 @@ void MarkerTracker::Impl::predict_lost() {
     prediction_fit[i] = fit;
     const std::optional<cv::Point2d> carry = carried(i);
     predicted[i] = carry.value_or(apply(fit, reference[i]));
-    carried_now[i] = carry.has_value();
     has_prediction[i] = true;
   }
 }
@@ -186,7 +184,6 @@ void MarkerTracker::Impl::reacquire(size_t i) {
   for (const Dot& d : dots_near(gray, expected, radius, dot_options(i), 4, least)) {
     if (cv::norm(d.center - expected) > radius || !dot_passes(i, d, false)) continue;
     if (!belongs_to(i, d.center, scale)) continue;
-    if (carried_now[i] && is_lid(i) && !along_its_lid_line(i, d.center, scale)) continue;
     // Last: it measures the blob again.
     if (!looks_like_itself(i, d)) continue;
     found_on(i, d);
@@ -216,13 +213,6 @@ void MarkerTracker::Impl::start_where_found(size_t i) {
   cv::invertAffineTransform(prediction_fit[i], back);
   reference[i] = apply(back, states[i].position);
   reference_seen[i] = true;
-}
-
-bool MarkerTracker::Impl::along_its_lid_line(size_t i, cv::Point2d at, double scale) const {
-  const std::optional<cv::Point2d> axis = lids.axis(i, reference, prediction_fit[i]);
-  if (!axis) return true;
-  return std::abs((at - predicted_at(i)).dot(*axis)) <=
-         options.eyes.lid_sideways_fraction * spacing[i] * scale;
 }
 
 bool MarkerTracker::Impl::apart_from_lower_lip(size_t i, size_t j) const {

@@ -19,7 +19,6 @@ MarkerTracker::Impl::Impl(MarkerLayout l, TrackerOptions o)
   }
   std::vector<FeaturePointId> points;
   for (const MarkerState& s : states) points.push_back(s.spec->feature_point);
-  lids = LidGeometry(points);
   for (const FeaturePointId& fp : points) roles.push_back(role_of(fp));
   options.dots.polarity = layout.polarity;
   centroid_dots = options.dots;
@@ -341,7 +340,6 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, align_tags),
       ROSTRO_NAMED_OPTION(O, search_fraction),
       ROSTRO_NAMED_OPTION(O, found_look_allowance),
-      ROSTRO_NAMED_OPTION(O, eyes.lid_sideways_fraction),
       ROSTRO_NAMED_OPTION(O, max_relative_motion),
       ROSTRO_NAMED_OPTION(O, max_relative_motion_px),
       ROSTRO_NAMED_OPTION(O, lower_lip.together),

@@ -53,7 +53,7 @@
 #include "tracking/face_tracker.hpp"
 #include "tracking/identify.hpp"
 #include "tracking/layout.hpp"
-#include "tracking/lid_geometry.hpp"
+#include "tracking/eye_options.hpp"
 #include "tracking/lower_lip_search.hpp"
 #include "tracking/tracked_frame.hpp"
 
@@ -124,7 +124,7 @@ struct TrackerOptions {
   // fraction of its spacing at the start, and pixels): expressions, not jumps to another dot.
   double max_relative_motion = 0.35;
   double max_relative_motion_px = 4;
-  // The eye dots' rules (lids and corners: lid_geometry.hpp), the brow dots' (brow_options.hpp) and
+  // The eye dots' rules (lids and corners: eye_options.hpp), the brow dots' (brow_options.hpp) and
   // the lower lip's (lower_lip_search.hpp).
   EyeOptions eyes;
   BrowOptions brows;

@@ -20,9 +20,9 @@
 #include "facecore/named_options.hpp"
 #include "facecore/option_check.hpp"
 #include "tracking/affine2d.hpp"
+#include "tracking/eye_options.hpp"
 #include "tracking/face_prior.hpp"
 #include "tracking/identify.hpp"
-#include "tracking/lid_geometry.hpp"
 #include "tracking/lk_pyramid.hpp"
 #include "tracking/lower_lip_search.hpp"
 #include "tracking/marker_tracker.hpp"
@@ -446,7 +446,6 @@ struct MarkerTracker::Impl {
   std::vector<cv::Matx23d> prediction_fit;
   std::vector<bool> has_prediction;
   std::vector<cv::Point2d> predicted;
-  std::vector<bool> carried_now;  // predicted from where it was last seen (lids)
 
   cv::Point2d predicted_at(size_t i) const { return predicted[i]; }
 
@@ -500,9 +499,6 @@ struct MarkerTracker::Impl {
 
   // A lid carried from where it was last seen moves up and down with the lid meanwhile, but
   // hardly sideways: a dot well to the side of where it is carried is an eye corner's.
-  bool along_its_lid_line(size_t i, cv::Point2d at, double scale) const;
-
-  LidGeometry lids;  // each lid dot's eye corners (lid_geometry.hpp)
 
   // ---- the lower lip (lower_lip_search.hpp) ---------------------------------------------
 

@@ -1,15 +1,7 @@
 #pragma once
-// Where a lid dot can be: the eye's dots (MPEG-4 group 3) told apart, each lid dot's eye
-// corners found in the layout, and the direction of the line through those corners. The
-// tracker uses it to find a lost lid dot again only near the line it is carried along, not on a
-// corner's dot (rostro::tracking::internal). EyeOptions, the eye dots' rules, are part of
-// TrackerOptions.
-
-#include <cstddef>
-#include <opencv2/core.hpp>
-#include <optional>
-#include <utility>
-#include <vector>
+// The eye dots' rules (EyeOptions, part of TrackerOptions) and the eye's dots (MPEG-4 group 3)
+// told apart: the lid midpoints and the inner corners, which those rules single out
+// (rostro::tracking::internal).
 
 #include "facecore/feature_point.hpp"
 
@@ -38,9 +30,6 @@ struct EyeOptions {
   // as wide, and rejected it was found again on the lash line. At 640x480 a blob that long is
   // the dot merged with the slit's corner line, hence the size condition.
   double inner_corner_max_elongation_large = 4;
-  // A lost lid dot is carried from where it was last seen, and found again only this far
-  // (fraction of its spacing) to the side of there, along its eye's corner-to-corner line.
-  double lid_sideways_fraction = 0.25;
   // Eye dots (lids, corners) found again after a loss: largest size over the larger of their
   // size when last seen and at the start (scaled as the face). A larger blob is the dot merged
   // with a dark neighbour (the pupil, the other lid's dot in a blink), whose centre is
@@ -75,26 +64,6 @@ bool is_eye_point(const FeaturePointId& fp);
 bool is_lid_point(const FeaturePointId& fp);
 // MPEG-4 3.8, 3.11: the inner eye corners.
 bool is_inner_eye_corner(const FeaturePointId& fp);
-
-class LidGeometry {
- public:
-  LidGeometry() = default;
-  // `points[i]`: marker i's feature point, in the tracker's marker order. Below, `start[i]` is
-  // marker i's position at the start of tracking, in the same order.
-  explicit LidGeometry(const std::vector<FeaturePointId>& points);
-
-  // Lid dot i's eye corners (inner, outer) as marker indices; empty for other markers and
-  // when a corner of that eye has no marker (MPEG-4 3.11/3.7 left, 3.8/3.12 right).
-  const std::optional<std::pair<size_t, size_t>>& corners(size_t i) const { return corners_[i]; }
-
-  // The image direction of lid dot i's eye from its inner to its outer corner, as
-  // `start_to_now` maps the start positions; empty without corners.
-  std::optional<cv::Point2d> axis(size_t i, const std::vector<cv::Point2d>& start,
-                                  const cv::Matx23d& start_to_now) const;
-
- private:
-  std::vector<std::optional<std::pair<size_t, size_t>>> corners_;
-};
 
 }  // namespace internal
 }  // namespace rostro::tracking
