@@ -25,10 +25,6 @@ bool is_eye_point(const FeaturePointId& fp) {
   return fp.group == 3;
 }
 
-bool is_lid_point(const FeaturePointId& fp) {
-  return is_eyelid_midpoint(fp);
-}
-
 bool is_inner_eye_corner(const FeaturePointId& fp) {
   return fp.group == 3 && (fp.index == kRightInnerCorner || fp.index == kLeftInnerCorner);
 }

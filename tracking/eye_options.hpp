@@ -1,7 +1,7 @@
 #pragma once
 // The eye dots' rules (EyeOptions, part of TrackerOptions) and the eye's dots (MPEG-4 group 3)
-// told apart: the lid midpoints and the inner corners, which those rules single out
-// (rostro::tracking::internal).
+// told apart: the inner corners, which those rules single out (rostro::tracking::internal); the
+// lid midpoints are facecore's is_eyelid_midpoint.
 
 #include "facecore/feature_point.hpp"
 
@@ -60,8 +60,6 @@ namespace internal {
 
 // MPEG-4 group 3: the lids and the eye corners.
 bool is_eye_point(const FeaturePointId& fp);
-// MPEG-4 3.1-3.4: the upper and lower lids' midpoints (odd: the face's left eye).
-bool is_lid_point(const FeaturePointId& fp);
 // MPEG-4 3.8, 3.11: the inner eye corners.
 bool is_inner_eye_corner(const FeaturePointId& fp);
 

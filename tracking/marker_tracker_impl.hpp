@@ -66,7 +66,7 @@ enum class DotRole {
 
 inline DotRole role_of(const FeaturePointId& fp) {
   constexpr int kLeftOuterCorner = 7, kRightOuterCorner = 12;
-  if (is_lid_point(fp)) return DotRole::Lid;
+  if (is_eyelid_midpoint(fp)) return DotRole::Lid;
   if (is_inner_eye_corner(fp)) return DotRole::InnerEyeCorner;
   if (is_eye_point(fp))
     return fp.index == kLeftOuterCorner || fp.index == kRightOuterCorner ? DotRole::OuterEyeCorner

@@ -11,9 +11,9 @@ namespace {
 TEST(EyeOptionsTest, TellsTheEyeDotsApart) {
   EXPECT_TRUE(is_eye_point({3, 12}));
   EXPECT_FALSE(is_eye_point({4, 1}));
-  for (int index = 1; index <= 4; ++index) EXPECT_TRUE(is_lid_point({3, index}));
-  EXPECT_FALSE(is_lid_point({3, 5}));
-  EXPECT_FALSE(is_lid_point({4, 1}));
+  for (int index = 1; index <= 4; ++index) EXPECT_TRUE(is_eyelid_midpoint({3, index}));
+  EXPECT_FALSE(is_eyelid_midpoint({3, 5}));
+  EXPECT_FALSE(is_eyelid_midpoint({4, 1}));
   EXPECT_TRUE(is_inner_eye_corner({3, 8}));
   EXPECT_TRUE(is_inner_eye_corner({3, 11}));
   EXPECT_FALSE(is_inner_eye_corner({3, 7}));
