@@ -38,7 +38,7 @@ SuiteScenario parse_scenario(const json& j, const json& defaults, const std::str
   static const std::set<std::string> known = {
       "name",  "title", "fps",         "seconds",       "seed",         "fap",
       "yaw",   "pitch", "roll",        "motion_period", "distance_amp", "brightness",
-      "light", "noise", "motion_blur", "occluder",      "neutral_lead"};
+      "light", "noise", "motion_blur", "occluder",      "neutral_lead", "size"};
   if (!j.is_object()) throw InputError(where + ": a scenario should be an object");
   for (const auto& [key, value] : j.items())
     if (!known.count(key)) throw InputError(where + ": unknown key '" + key + "'");
@@ -62,9 +62,13 @@ SuiteScenario parse_scenario(const json& j, const json& defaults, const std::str
   if (!(s.neutral_lead >= 0))
     throw InputError(where + " (" + s.name + "): neutral_lead should not be negative");
   SynthOptions& o = s.synth;
-  if (defaults.contains("size")) {
-    o.width = defaults["size"].at(0).get<int>();
-    o.height = defaults["size"].at(1).get<int>();
+  const json& size = j.contains("size") ? j["size"] : defaults.value("size", json());
+  if (!size.is_null()) {
+    if (!size.is_array() || size.size() != 2 || !size[0].is_number_integer() ||
+        !size[1].is_number_integer() || size[0].get<int>() <= 0 || size[1].get<int>() <= 0)
+      throw InputError(where + " (" + s.name + "): 'size' should be [width, height] in pixels");
+    o.width = size[0].get<int>();
+    o.height = size[1].get<int>();
   }
   o.seed = static_cast<unsigned>(num("seed", 1));
   o.yaw_deg = num("yaw", 0);

@@ -11,7 +11,8 @@
 // Scenario keys (each optional): fps, seconds, seed, fap (a path relative to the data
 // folder), yaw, pitch, roll, motion_period, distance_amp, brightness, light, noise,
 // motion_blur, occluder (true/false), neutral_lead (seconds of neutral face before the drive,
-// where the tracker can identify the markers), as the `rostro synth` options of the same names.
+// where the tracker can identify the markers), as the `rostro synth` options of the same names,
+// and size ([width, height], as the top-level default).
 
 #include <array>
 #include <filesystem>

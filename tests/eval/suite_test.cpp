@@ -56,6 +56,23 @@ TEST(Suite, UnknownKeyIsNamed) {
   }
 }
 
+TEST(Suite, AScenarioMayHaveItsOwnSize) {
+  const auto path = temp_file("size.json", R"({"size": [640, 480], "scenarios": [
+      {"name": "a"}, {"name": "b", "size": [1280, 720]}]})");
+  const SuiteDefinition d = load_suite(path);
+  ASSERT_EQ(d.scenarios.size(), 2u);
+  EXPECT_EQ(d.scenarios[0].synth.width, 640);
+  EXPECT_EQ(d.scenarios[1].synth.width, 1280);
+  EXPECT_EQ(d.scenarios[1].synth.height, 720);
+  const auto bad = temp_file("bad_size.json", R"({"scenarios": [{"name": "c", "size": [1280]}]})");
+  try {
+    load_suite(bad);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'size'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Suite, MarkdownSectionIsReplacedAndTheRestKept) {
   const auto path = temp_file("doc.md",
                               "# Title\n\nIntro.\n\n## Suite table\n\nold table\n\n"
