@@ -119,8 +119,8 @@ void run_track(const TrackArgs& args) {
     if (backfill.take(tracked, held.held(), f->image) > 0)
       std::fprintf(stderr, "rostro track: frame %ld: frames %ld-%ld followed back from it\n", frame,
                    backfill.filled_from(), frame - 1);
-    // The identification is reported at the end; a check during the take that renamed a dot,
-    // as it happens.
+    // The identification is reported at the end; a check during the take that renamed a dot
+    // (or gave two their dots back), as it happens.
     if (!tracked.identification.empty() && tracked.identification.starts_with("identities"))
       std::fprintf(stderr, "rostro track: frame %ld: %s\n", frame, tracked.identification.c_str());
     if (!tracked.corrections.empty())

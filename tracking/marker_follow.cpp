@@ -21,6 +21,7 @@ void MarkerTracker::Impl::follow() {
   timed("drop_jumped", [&] { drop_jumped(flow); });
   timed("drop_coincident", [&] { drop_coincident(); });
   timed("reacquire_lost", [&] { reacquire_lost(flow); });
+  if (options.swap_back_pairs) timed("swap_back_pairs", [&] { swap_back_pairs(); });
 }
 
 MarkerTracker::Impl::Flow MarkerTracker::Impl::lk_round_trip() {

@@ -218,4 +218,73 @@ std::map<std::string, cv::Point2d> MarkerTracker::Impl::face_places(
   return face_prior.fitted(gray, layout, *box);
 }
 
+cv::Point2d MarkerTracker::Impl::placed_by_face(size_t a, const cv::Matx23d& fit) const {
+  if (!placed_by_jaw(a)) return apply(fit, reference[a]);
+  std::vector<std::pair<double, size_t>> jaw;
+  for (size_t j = 0; j < states.size(); ++j)
+    if (j != a && states[j].valid && on_jaw(j))
+      jaw.push_back({cv::norm(reference[j] - reference[a]), j});
+  std::sort(jaw.begin(), jaw.end());
+  return apply(moved_with(fit, jaw), reference[a]);
+}
+
+void MarkerTracker::Impl::swap_back_pairs() {
+  std::map<std::pair<size_t, size_t>, Dot> calls;  // (a, b) -> the free dot a takes
+  auto held = [&](cv::Point2d p) {
+    for (size_t j = 0; j < states.size(); ++j)
+      if (states[j].valid && !states[j].spec->is_tag() &&
+          cv::norm(states[j].position - p) < 0.5 * spacing[j] * face_scale)
+        return true;
+    return false;
+  };
+  for (size_t a = 0; face_fit && a < states.size(); ++a) {
+    if (!states[a].valid || states[a].spec->is_tag()) continue;
+    std::vector<size_t> lost;  // a's lost neighbours, within two of their spacings
+    for (size_t b = 0; b < states.size(); ++b)
+      if (!states[b].valid && !states[b].spec->is_tag() &&
+          cv::norm(reference[a] - reference[b]) <= 2 * spacing[b])
+        lost.push_back(b);
+    if (lost.empty()) continue;
+    const cv::Point2d t = states[a].position, own = placed_by_face(a, *face_fit);
+    // A free dot lies at least half a spacing from t, and it must lie nearer `own` than t
+    // does: t a quarter spacing or more from there.
+    if (cv::norm(t - own) < 0.25 * spacing[a] * face_scale) continue;
+    const double radius = options.search_fraction * spacing[a] * face_scale;
+    ensure_gray_around(own, radius);
+    const double least = options.min_contrast_ratio * reference_contrast[a];
+    std::vector<Dot> free;  // nearest `own` first
+    for (const Dot& d : dots_near(gray, own, radius, dot_options(a), 4, least))
+      if (cv::norm(d.center - own) <= radius && !held(d.center) &&
+          cv::norm(d.center - own) < cv::norm(t - own) && dot_passes(a, d, false))
+        free.push_back(d);
+    for (size_t b : lost) {
+      // From a's place to b's, as the face's fit maps the layout now.
+      const cv::Point2d v = apply_linear(*face_fit, reference[b] - reference[a]);
+      // b on t and a on d, against a on t and b on d: the pair's offset either way round.
+      const auto decides = [&](const Dot& d) {
+        return cv::norm(t - d.center - v) <= kDecisive * cv::norm(d.center - t - v);
+      };
+      const auto d = std::find_if(free.begin(), free.end(), decides);
+      if (d != free.end()) calls.emplace(std::make_pair(a, b), *d);
+    }
+  }
+  std::set<size_t> done;
+  for (const auto& [pair, d] : calls) {
+    const auto [a, b] = pair;
+    if (!pair_calls_before.count(pair) || done.count(a) || done.count(b)) continue;
+    done.insert(a), done.insert(b);
+    MarkerState& lost = states[b];
+    lost.valid = true, lost.position = states[a].position, lost.quality = states[a].quality;
+    lost.lost_reason = LostReason::None;
+    recent_diameter[b] = recent_diameter[a], last_diameter[b] = last_diameter[a];
+    recent_elongation[b] = recent_elongation[a];
+    found_on(a, d);
+    unconfirmed.insert(a), unconfirmed.insert(b);  // as any dot found again
+    note += (note.empty() ? "" : "; ") + std::string("identities swapped back: ") +
+            states[a].spec->id + " <-> " + lost.spec->id;
+  }
+  pair_calls_before.clear();
+  for (const auto& [pair, d] : calls) pair_calls_before.insert(pair);
+}
+
 }  // namespace rostro::tracking

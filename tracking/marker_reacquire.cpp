@@ -66,6 +66,7 @@ void MarkerTracker::Impl::predict_lost() {
   const size_t n = states.size();
   prediction_fit.assign(n, {});
   has_prediction.assign(n, false);
+  face_fit.reset();
   predicted.assign(n, {});
   std::vector<cv::Point2d> from, to;
   for (size_t j = 0; j < n; ++j)
@@ -74,6 +75,7 @@ void MarkerTracker::Impl::predict_lost() {
   cv::Mat global_fit = cv::estimateAffine2D(from, to, cv::noArray(), cv::RANSAC, 3.0);
   if (global_fit.empty()) return;
   const cv::Matx23d global(global_fit);
+  face_fit = global;
   const double global_scale = scale_of(global);
   face_scale = global_scale;
   for (size_t i = 0; i < n; ++i) {

@@ -345,6 +345,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, lower_lip.together),
       ROSTRO_NAMED_OPTION(O, lower_lip.with_the_jaw),
       ROSTRO_NAMED_OPTION(O, start_place_when_found),
+      ROSTRO_NAMED_OPTION(O, swap_back_pairs),
       ROSTRO_NAMED_OPTION(O, lower_lip.up),
       ROSTRO_NAMED_OPTION(O, lower_lip.down),
       ROSTRO_NAMED_OPTION(O, lower_lip.sideways),

@@ -427,6 +427,23 @@ struct MarkerTracker::Impl {
 
   // 5. Look again for the markers that are not valid, where their neighbours put them.
   void reacquire_lost(const Flow& f);
+
+  // 5b. TrackerOptions::swap_back_pairs. A lost marker b whose valid neighbour a (within two of
+  //     b's spacings) follows a dot away from a's place, with a free dot nearer a's place, is
+  //     where two dots landed on one spot for a frame or more (a brow raised at once, the chin
+  //     boss dropped onto the chin's place) and LK carried a's name on with b's dot when they
+  //     parted. a's place comes from the face's fit of every valid marker, moved with the jaw
+  //     for the jaw's dots (placed_by_face), so not from a's own dot. The pair's offset decides:
+  //     b on a's dot and a on the free one must give an offset from a to b decisively nearer
+  //     the layout's (as the face's fit maps it) than the other way round (kDecisive), on two
+  //     frames in a row. A dot a has followed away from its place, beside a free spot where it
+  //     was (a brow raised, a mole), keeps its name: the offset is across, not along, the pair.
+  void swap_back_pairs();
+  std::optional<cv::Matx23d> face_fit;  // predict_lost's fit of every valid marker, this frame
+  // Where the face's fit, moved with the jaw for the jaw's dots (moved_with, by the nearest
+  // other jaw dot followed), puts dot a.
+  cv::Point2d placed_by_face(size_t a, const cv::Matx23d& fit) const;
+  std::set<std::pair<size_t, size_t>> pair_calls_before;  // (a, b): the last frame's calls
   int frames_since_tag_detection = 0;
 
   // Side lengths within 10% of the last ones: LK did not slide a corner along an edge.

@@ -27,6 +27,13 @@ inline void draw_disc(cv::Mat& img, cv::Point2d centre, double radius_px, int gr
              cv::FILLED, cv::LINE_AA, kDrawShift);
 }
 
+// Frontal layout millimetres (x right, y down) to pixels, `scale` pixels a millimetre: the
+// face centred as the layout's origin is at 640x480 with 2.4 px a millimetre, the image grown
+// with the scale.
+inline cv::Point2d frontal_to_image(cv::Point2d mm, double scale) {
+  return cv::Point2d(320, 230) * (scale / 2.4) + mm * scale;
+}
+
 // Starts `tracker` with every dot where `place(marker)` draws it: a flat drawing is no face
 // for automatic identification.
 template <typename Place>

@@ -24,12 +24,8 @@ namespace {
 
 using testing::draw_and_track;
 using testing::DrawnRun;
+using testing::frontal_to_image;
 using testing::start_on_drawing;
-
-// Frontal layout millimetres (x right, y down) to pixels, `scale` pixels a millimetre.
-cv::Point2d to_image(cv::Point2d mm, double scale) {
-  return cv::Point2d(320, 230) * (scale / 2.4) + mm * scale;
-}
 
 bool lower_lip(const MarkerSpec& m) {
   return m.id == "lip_bot" || m.id == "lip_bot_l" || m.id == "lip_bot_r";
@@ -50,7 +46,7 @@ DrawnRun track(const Drive& drive, int frames, double scale, const TrackerOption
     cv::Point2d mm = m.frontal();
     if (lower_lip(m)) mm.y += o.lip;
     if (m.id == "chin_boss" || m.id == "chin") mm.y += o.jaw;
-    return to_image(mm, scale);
+    return frontal_to_image(mm, scale);
   };
   MarkerTracker tracker(layout, options);
   start_on_drawing(tracker, layout, [&](const MarkerSpec& m) { return place(m, drive(0)); });
@@ -61,7 +57,8 @@ DrawnRun track(const Drive& drive, int frames, double scale, const TrackerOption
     // The open mouth: a dark hole from the corners' height (32 mm below the nose) down to
     // 3 mm above the lower lip's dots, darker toward its middle, its ends by the corners.
     if (o.lip > 3) {
-      const cv::Point2d top = to_image({0, 29}, scale), bottom = to_image({0, 35 + o.lip}, scale);
+      const cv::Point2d top = frontal_to_image({0, 29}, scale),
+                        bottom = frontal_to_image({0, 35 + o.lip}, scale);
       const cv::Point centre((top + bottom) * 0.5 * 16);
       const cv::Size axes(cvRound(20 * scale * 16), cvRound((bottom.y - top.y) / 2 * 16));
       cv::ellipse(img, centre, axes, 0, 0, 360, cv::Scalar(90), cv::FILLED, cv::LINE_AA, 4);
