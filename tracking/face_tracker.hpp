@@ -21,8 +21,10 @@ class FaceTracker {
   // Whether the face has been found (markers identified, or a face detected) at least once.
   virtual bool started() const = 0;
   virtual const MarkerLayout& layout() const = 0;
-  // How many frames back a frame's name corrections (TrackedFrame::corrections) may reach: a
-  // consumer that holds this many frames before writing them can correct them all. 0: none.
+  // How many frames back a frame's name corrections (TrackedFrame::corrections) reach as a
+  // rule: a consumer that holds this many frames before writing them can correct them (a
+  // marker tracker's pair given back may reach further; a take held whole corrects all).
+  // 0: none.
   virtual long correction_horizon() const { return 0; }
   // A tracker like this one started from `start`'s positions, for following them back over
   // the frames before it (tracking/start_backfill.hpp); none where that is not done.

@@ -269,6 +269,7 @@ void MarkerTracker::Impl::swap_back_pairs() {
     }
   }
   std::set<size_t> done;
+  std::string swapped;  // "a <-> b, ..." for the frame's note
   for (const auto& [pair, d] : calls) {
     const auto [a, b] = pair;
     if (!pair_calls_before.count(pair) || done.count(a) || done.count(b)) continue;
@@ -280,9 +281,16 @@ void MarkerTracker::Impl::swap_back_pairs() {
     recent_elongation[b] = recent_elongation[a];
     found_on(a, d);
     unconfirmed.insert(a), unconfirmed.insert(b);  // as any dot found again
-    note += (note.empty() ? "" : "; ") + std::string("identities swapped back: ") +
-            states[a].spec->id + " <-> " + lost.spec->id;
+    // Since b was lost, the dot followed as a was b's: the frames given out since then are
+    // corrected (and a's own dot is unknown there). A take written as it goes holds only the
+    // last kSwapBackReach of them; one held whole takes them all.
+    const long since = frame_now - lost.lost_frames;
+    corrections.push_back({states[a].spec->id, lost.spec->id, since});
+    corrected_since = corrections.size() == 1 ? since : std::min(corrected_since, since);
+    swapped += (swapped.empty() ? "" : ", ") + states[a].spec->id + " <-> " + lost.spec->id;
   }
+  if (!swapped.empty())
+    note += (note.empty() ? "" : "; ") + std::string("identities swapped back: ") + swapped;
   pair_calls_before.clear();
   for (const auto& [pair, d] : calls) pair_calls_before.insert(pair);
 }

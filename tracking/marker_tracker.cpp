@@ -198,6 +198,7 @@ void MarkerTracker::set_start_positions(const std::map<std::string, cv::Point2d>
 TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_s) {
   Impl& m = *impl_;
   m.step_times.clear();
+  m.frame_now = frame;
   m.to_gray(image);
   if (m.started) {
     // LK needs this frame's pyramid the size of the previous one: it moves with the markers.
@@ -414,7 +415,9 @@ const char* to_string(LostReason r) {
 
 long MarkerTracker::correction_horizon() const {
   const TrackerOptions& o = impl_->options;
-  return impl_->start_positions.empty() ? o.second_look_after * o.second_look_tries : 0;
+  const long second_look =
+      impl_->start_positions.empty() ? o.second_look_after * o.second_look_tries : 0;
+  return o.swap_back_pairs ? std::max(second_look, Impl::kSwapBackReach) : second_look;
 }
 
 bool MarkerTracker::started() const {

@@ -127,8 +127,9 @@ struct TrackerOptions {
   // name's own dot free and the other name lost. A lost marker then takes the dot its valid
   // neighbour follows, and the neighbour the free dot nearer its own place, when the pair's
   // offset is decisively the layout's that way round and not the other (on two frames in a row;
-  // MarkerTracker::Impl::swap_back_pairs). The marker suite's fast mouth: 115 swapped
-  // observations -> 27; not tuned on (data/eval/suite_sudden.json): 115-140 -> 29-67; the photo
+  // MarkerTracker::Impl::swap_back_pairs), and the frames since the lost one was lost are
+  // corrected (TrackedFrame::corrections). The marker suite's fast mouth: 115 swapped
+  // observations -> 15; not tuned on (data/eval/suite_sudden.json): 115-140 -> 0-16; the photo
   // scenes and the closed loops unchanged. false: never.
   bool swap_back_pairs = true;
   // How far a dot's frame-to-frame motion may differ from its neighbours' (the larger of a
@@ -245,7 +246,9 @@ class MarkerTracker : public FaceTracker {
   // A MarkerTracker with these options, started from `start`'s valid positions.
   std::unique_ptr<FaceTracker> started_from(const TrackedFrame& start) const override;
   // A second look renames dots followed since the start (step 6 above) up to
-  // second_look_after x second_look_tries frames after it.
+  // second_look_after x second_look_tries frames after it; a pair's names given back
+  // (swap_back_pairs) correct the frames since its lost name was lost, of which a consumer
+  // holding this many frames (at least 30 with swap_back_pairs) corrects those it holds.
   long correction_horizon() const override;
   // The identification tracking started from (confident) once started; before, the latest
   // doubtful one, saying why (IdentificationConfidence::doubt). Empty (0 dots) with starting

@@ -113,6 +113,7 @@ struct MarkerTracker::Impl {
   FacePrior face_prior{options.identification.face_model};
   std::map<std::string, cv::Point2d> expected_start;  // Identification::places
   std::string note;                                   // this frame's TrackedFrame::identification
+  long frame_now = 0;                                 // the frame being tracked
   // This frame's TrackedFrame::corrections and their first frame (the second look's renames).
   std::vector<NameCorrection> corrections;
   long corrected_since = -1;
@@ -439,6 +440,10 @@ struct MarkerTracker::Impl {
   //     frames in a row. A dot a has followed away from its place, beside a free spot where it
   //     was (a brow raised, a mole), keeps its name: the offset is across, not along, the pair.
   void swap_back_pairs();
+  // How many frames a take written as it goes holds for the frames given out under swapped
+  // names to be corrected (MarkerTracker::correction_horizon): a second at 30 fps, where the
+  // marker suite's fast mouth gives its names back 12-16 frames after the dots landed.
+  static constexpr long kSwapBackReach = 30;
   std::optional<cv::Matx23d> face_fit;  // predict_lost's fit of every valid marker, this frame
   // Where the face's fit, moved with the jaw for the jaw's dots (moved_with, by the nearest
   // other jaw dot followed), puts dot a.

@@ -58,7 +58,7 @@ void apply_name_corrections(std::span<TrackedFrame> earlier, const TrackedFrame&
     const TrackedFrame* after = nullptr;
     const MarkerObservation* after_o = nullptr;
     for (auto it = earlier.rbegin(); it != earlier.rend(); ++it) {
-      if (it->frame < now.corrected_since) break;
+      if (it->frame < std::max(now.corrected_since, c.since)) break;
       const MarkerObservation* o = find(*it, c.from);
       if (o == nullptr || !o->valid) break;
       if (after != nullptr &&
@@ -73,7 +73,7 @@ void apply_name_corrections(std::span<TrackedFrame> earlier, const TrackedFrame&
     if (f.frame < now.corrected_since) continue;
     std::map<std::string, MarkerObservation> moved;  // from's observation, by its new name
     for (const NameCorrection& c : now.corrections) {
-      if (f.frame < track_begins[c.from]) continue;
+      if (f.frame < std::max(track_begins[c.from], c.since)) continue;
       MarkerObservation* o = find(f, c.from);
       if (o == nullptr || !o->valid) continue;
       if (!c.to.empty()) moved[c.to] = *o;
@@ -91,11 +91,15 @@ void apply_name_corrections(std::span<TrackedFrame> earlier, const TrackedFrame&
 }
 
 std::string describe_corrections(const TrackedFrame& frame) {
-  std::string text = "frames " + std::to_string(frame.corrected_since) + "-" +
-                     std::to_string(frame.frame - 1) + " renamed:";
+  auto range = [&](long since) {
+    return "frames " + std::to_string(std::max(since, frame.corrected_since)) + "-" +
+           std::to_string(frame.frame - 1);
+  };
+  std::string text = range(-1) + " renamed:";
   for (size_t i = 0; i < frame.corrections.size(); ++i) {
     const NameCorrection& c = frame.corrections[i];
     text += (i ? ", " : " ") + c.from + (c.to.empty() ? " was no marker" : " was " + c.to);
+    if (c.since > frame.corrected_since) text += " (" + range(c.since) + ")";
   }
   return text;
 }

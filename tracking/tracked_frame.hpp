@@ -28,6 +28,9 @@ struct HeadPose {
 // marker at all, a name followed on a blob that is none).
 struct NameCorrection {
   std::string from, to;
+  // The first frame it holds for, where that is later than the frame's corrected_since (-1:
+  // from corrected_since on).
+  long since = -1;
   bool operator==(const NameCorrection&) const = default;
 };
 

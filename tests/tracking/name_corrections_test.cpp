@@ -58,8 +58,9 @@ TEST(NameCorrections, SwappedNamesTradeTracksAndANameOnNoDotIsUnseen) {
   apply_name_corrections(frames, correction(6, 2, {{"a", "c"}, {"c", "a"}}));
   for (const TrackedFrame& f : frames) {
     const bool after = f.frame >= 2;  // the frames before the start keep their names
-    EXPECT_EQ(at(f, "a").position.x, after ? 60.0 + f.frame : f.frame) << f.frame;
-    EXPECT_EQ(at(f, "c").position.x, after ? f.frame : 60.0 + f.frame) << f.frame;
+    const auto k = static_cast<double>(f.frame);
+    EXPECT_EQ(at(f, "a").position.x, after ? 60.0 + k : k) << f.frame;
+    EXPECT_EQ(at(f, "c").position.x, after ? k : 60.0 + k) << f.frame;
   }
   frames = take(6);
   apply_name_corrections(frames, correction(6, 0, {{"c", ""}}));
@@ -122,10 +123,27 @@ TEST(NameCorrections, AWindowHoldsFramesUntilNoLaterFrameCanCorrectThem) {
   EXPECT_EQ(none.push(frames[0]).size(), 1u);  // no horizon: straight through
 }
 
+// A pair's names given back when its dots part (TrackerOptions::swap_back_pairs): each
+// correction holds from the frame its lost name was lost on.
+TEST(NameCorrections, ACorrectionMayHoldFromALaterFrame) {
+  std::vector<TrackedFrame> frames = take(10);
+  apply_name_corrections(frames, correction(10, 3, {{"a", "b", 6}, {"c", "d", 3}}));
+  for (const TrackedFrame& f : frames) {
+    EXPECT_EQ(at(f, "a").valid, f.frame < 6) << f.frame;
+    EXPECT_EQ(at(f, "b").valid, f.frame >= 6) << f.frame;
+    EXPECT_EQ(at(f, "c").valid, f.frame < 3) << f.frame;
+    const auto k = static_cast<double>(f.frame);
+    EXPECT_EQ(at(f, "d").position.x, f.frame < 3 ? 90.0 + k : 60.0 + k) << f.frame;
+  }
+}
+
 TEST(NameCorrections, DescribedInOneLine) {
   const TrackedFrame now = correction(10, 0, {{"lip_bot", "lip_bot_l"}, {"mouth_l", ""}});
   EXPECT_EQ(describe_corrections(now),
             "frames 0-9 renamed: lip_bot was lip_bot_l, mouth_l was no marker");
+  const TrackedFrame later = correction(10, 2, {{"chin", "chin_boss", 2}, {"a", "b", 5}});
+  EXPECT_EQ(describe_corrections(later),
+            "frames 2-9 renamed: chin was chin_boss, a was b (frames 5-9)");
 }
 
 }  // namespace
