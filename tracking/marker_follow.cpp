@@ -13,7 +13,7 @@ bool MarkerTracker::Impl::failed_round_trip(const Flow& f, size_t k) const {
   return !f.status[k] || !f.status_back[k] || cv::norm(f.back[k] - f.before[k]) > max_fb_error();
 }
 
-void MarkerTracker::Impl::follow() {
+void MarkerTracker::Impl::follow(long frame) {
   Flow flow = timed("lk_round_trip", [&] { return lk_round_trip(); });
   const TagGuesses tags = timed("tag_corner_guesses", [&] { return tag_corner_guesses(flow); });
   timed("snap_dots", [&] { snap_dots(flow); });
@@ -21,7 +21,7 @@ void MarkerTracker::Impl::follow() {
   timed("drop_jumped", [&] { drop_jumped(flow); });
   timed("drop_coincident", [&] { drop_coincident(); });
   timed("reacquire_lost", [&] { reacquire_lost(flow); });
-  if (options.swap_back_pairs) timed("swap_back_pairs", [&] { swap_back_pairs(); });
+  if (options.swap_back_pairs) timed("swap_back_pairs", [&] { swap_back_pairs(frame); });
 }
 
 MarkerTracker::Impl::Flow MarkerTracker::Impl::lk_round_trip() {

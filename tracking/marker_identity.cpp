@@ -218,25 +218,8 @@ std::map<std::string, cv::Point2d> MarkerTracker::Impl::face_places(
   return face_prior.fitted(gray, layout, *box);
 }
 
-cv::Point2d MarkerTracker::Impl::placed_by_face(size_t a, const cv::Matx23d& fit) const {
-  if (!placed_by_jaw(a)) return apply(fit, reference[a]);
-  std::vector<std::pair<double, size_t>> jaw;
-  for (size_t j = 0; j < states.size(); ++j)
-    if (j != a && states[j].valid && on_jaw(j))
-      jaw.push_back({cv::norm(reference[j] - reference[a]), j});
-  std::sort(jaw.begin(), jaw.end());
-  return apply(moved_with(fit, jaw), reference[a]);
-}
-
-void MarkerTracker::Impl::swap_back_pairs() {
+void MarkerTracker::Impl::swap_back_pairs(long frame) {
   std::map<std::pair<size_t, size_t>, Dot> calls;  // (a, b) -> the free dot a takes
-  auto held = [&](cv::Point2d p) {
-    for (size_t j = 0; j < states.size(); ++j)
-      if (states[j].valid && !states[j].spec->is_tag() &&
-          cv::norm(states[j].position - p) < 0.5 * spacing[j] * face_scale)
-        return true;
-    return false;
-  };
   for (size_t a = 0; face_fit && a < states.size(); ++a) {
     if (!states[a].valid || states[a].spec->is_tag()) continue;
     std::vector<size_t> lost;  // a's lost neighbours, within two of their spacings
@@ -245,7 +228,10 @@ void MarkerTracker::Impl::swap_back_pairs() {
           cv::norm(reference[a] - reference[b]) <= 2 * spacing[b])
         lost.push_back(b);
     if (lost.empty()) continue;
-    const cv::Point2d t = states[a].position, own = placed_by_face(a, *face_fit);
+    // a's place by every other marker: the face's fit, moved with the jaw for the jaw's dots.
+    const cv::Point2d t = states[a].position,
+                      own = apply(placed_by_jaw(a) ? moved_with_jaw(*face_fit, a) : *face_fit,
+                                  reference[a]);
     // A free dot lies at least half a spacing from t, and it must lie nearer `own` than t
     // does: t a quarter spacing or more from there.
     if (cv::norm(t - own) < 0.25 * spacing[a] * face_scale) continue;
@@ -254,7 +240,7 @@ void MarkerTracker::Impl::swap_back_pairs() {
     const double least = options.min_contrast_ratio * reference_contrast[a];
     std::vector<Dot> free;  // nearest `own` first
     for (const Dot& d : dots_near(gray, own, radius, dot_options(a), 4, least))
-      if (cv::norm(d.center - own) <= radius && !held(d.center) &&
+      if (cv::norm(d.center - own) <= radius && !followed_dot_at(d.center, face_scale) &&
           cv::norm(d.center - own) < cv::norm(t - own) && dot_passes(a, d, false))
         free.push_back(d);
     for (size_t b : lost) {
@@ -284,7 +270,7 @@ void MarkerTracker::Impl::swap_back_pairs() {
     // Since b was lost, the dot followed as a was b's: the frames given out since then are
     // corrected (and a's own dot is unknown there). A take written as it goes holds only the
     // last kSwapBackReach of them; one held whole takes them all.
-    const long since = frame_now - lost.lost_frames;
+    const long since = frame - lost.lost_frames;
     corrections.push_back({states[a].spec->id, lost.spec->id, since});
     corrected_since = corrections.size() == 1 ? since : std::min(corrected_since, since);
     swapped += (swapped.empty() ? "" : ", ") + states[a].spec->id + " <-> " + lost.spec->id;

@@ -81,14 +81,13 @@ void MarkerTracker::Impl::predict_lost() {
   for (size_t i = 0; i < n; ++i) {
     if (states[i].valid) continue;
     const bool by_jaw = placed_by_jaw(i);
+    cv::Matx23d fit = by_jaw ? moved_with_jaw(global, i) : global;
     std::vector<std::pair<double, size_t>> near;
-    for (size_t j = 0; j < n; ++j)
-      if (states[j].valid && (!by_jaw || on_jaw(j)))
-        near.push_back({cv::norm(reference[j] - reference[i]), j});
+    for (size_t j = 0; j < n && !by_jaw; ++j)
+      if (states[j].valid) near.push_back({cv::norm(reference[j] - reference[i]), j});
     std::sort(near.begin(), near.end());
-    cv::Matx23d fit = by_jaw ? moved_with(global, near) : global;
     if (near.size() > 6) near.resize(6);
-    if (!by_jaw && near.size() >= 4) {
+    if (near.size() >= 4) {
       std::vector<cv::Point2d> f, t;
       for (const auto& [d, j] : near) f.push_back(reference[j]), t.push_back(states[j].position);
       cv::Mat local = cv::estimateAffine2D(f, t, cv::noArray(), cv::LMEDS);
@@ -110,10 +109,15 @@ void MarkerTracker::Impl::predict_lost() {
   }
 }
 
-cv::Matx23d MarkerTracker::Impl::moved_with(
-    const cv::Matx23d& global, const std::vector<std::pair<double, size_t>>& jaw) const {
-  if (jaw.empty()) return global;
-  const size_t j = jaw.front().second;
+cv::Matx23d MarkerTracker::Impl::moved_with_jaw(const cv::Matx23d& global, size_t i) const {
+  std::optional<size_t> nearest;  // the followed jaw dot nearest i at the start (i aside)
+  for (size_t j = 0; j < states.size(); ++j)
+    if (j != i && states[j].valid && on_jaw(j) &&
+        (!nearest ||
+         cv::norm(reference[j] - reference[i]) < cv::norm(reference[*nearest] - reference[i])))
+      nearest = j;
+  if (!nearest) return global;
+  const size_t j = *nearest;
   const cv::Point2d miss = states[j].position - apply(global, reference[j]);
   cv::Matx23d moved = global;
   moved(0, 2) += miss.x, moved(1, 2) += miss.y;
@@ -254,13 +258,20 @@ bool MarkerTracker::Impl::reacquire_lower_lip() {
   return true;
 }
 
+bool MarkerTracker::Impl::followed_dot_at(cv::Point2d at, double scale) const {
+  for (size_t j = 0; j < states.size(); ++j)
+    if (states[j].valid && !states[j].spec->is_tag() &&
+        cv::norm(states[j].position - at) < 0.5 * spacing[j] * scale)
+      return true;
+  return false;
+}
+
 bool MarkerTracker::Impl::belongs_to(size_t i, cv::Point2d at, double scale) const {
   const IdentificationOptions& naming = options.identification;
   const double own = cv::norm(at - predicted_at(i));
+  if (followed_dot_at(at, scale)) return false;
   for (size_t j = 0; j < states.size(); ++j) {
     if (j == i || states[j].spec->is_tag()) continue;
-    if (states[j].valid && cv::norm(states[j].position - at) < 0.5 * spacing[j] * scale)
-      return false;
     if (!states[j].valid && has_prediction[j] &&
         cv::norm(predicted_at(j) - at) < naming.unnamed_rival * own &&
         own > naming.sure_within * spacing[i] * scale)

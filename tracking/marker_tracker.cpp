@@ -198,7 +198,6 @@ void MarkerTracker::set_start_positions(const std::map<std::string, cv::Point2d>
 TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_s) {
   Impl& m = *impl_;
   m.step_times.clear();
-  m.frame_now = frame;
   m.to_gray(image);
   if (m.started) {
     // LK needs this frame's pyramid the size of the previous one: it moves with the markers.
@@ -208,7 +207,7 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
       m.ensure_gray(m.region);
       m.build_pyramid(m.region, m.pyramid);
     });
-    m.follow();
+    m.follow(frame);
     const long followed = frame - m.started_at;
     if (m.options.second_look_after > 0 && followed > 0 &&
         followed % m.options.second_look_after == 0 && m.start_positions.empty() &&

@@ -113,7 +113,6 @@ struct MarkerTracker::Impl {
   FacePrior face_prior{options.identification.face_model};
   std::map<std::string, cv::Point2d> expected_start;  // Identification::places
   std::string note;                                   // this frame's TrackedFrame::identification
-  long frame_now = 0;                                 // the frame being tracked
   // This frame's TrackedFrame::corrections and their first frame (the second look's renames).
   std::vector<NameCorrection> corrections;
   long corrected_since = -1;
@@ -365,7 +364,7 @@ struct MarkerTracker::Impl {
     std::vector<bool> held;
   };
 
-  void follow();
+  void follow(long frame);
 
   static constexpr double kDecisive = 0.4;  // other place's distance / own place's, at most
   std::map<std::string, std::string> called_otherwise;  // the last check's misnamed dots
@@ -434,20 +433,17 @@ struct MarkerTracker::Impl {
   //     where two dots landed on one spot for a frame or more (a brow raised at once, the chin
   //     boss dropped onto the chin's place) and LK carried a's name on with b's dot when they
   //     parted. a's place comes from the face's fit of every valid marker, moved with the jaw
-  //     for the jaw's dots (placed_by_face), so not from a's own dot. The pair's offset decides:
+  //     for the jaw's dots (moved_with_jaw), so not from a's own dot. The pair's offset decides:
   //     b on a's dot and a on the free one must give an offset from a to b decisively nearer
   //     the layout's (as the face's fit maps it) than the other way round (kDecisive), on two
   //     frames in a row. A dot a has followed away from its place, beside a free spot where it
   //     was (a brow raised, a mole), keeps its name: the offset is across, not along, the pair.
-  void swap_back_pairs();
+  void swap_back_pairs(long frame);
   // How many frames a take written as it goes holds for the frames given out under swapped
   // names to be corrected (MarkerTracker::correction_horizon): a second at 30 fps, where the
   // marker suite's fast mouth gives its names back 12-16 frames after the dots landed.
   static constexpr long kSwapBackReach = 30;
   std::optional<cv::Matx23d> face_fit;  // predict_lost's fit of every valid marker, this frame
-  // Where the face's fit, moved with the jaw for the jaw's dots (moved_with, by the nearest
-  // other jaw dot followed), puts dot a.
-  cv::Point2d placed_by_face(size_t a, const cv::Matx23d& fit) const;
   std::set<std::pair<size_t, size_t>> pair_calls_before;  // (a, b): the last frame's calls
   int frames_since_tag_detection = 0;
 
@@ -473,11 +469,10 @@ struct MarkerTracker::Impl {
 
   void predict_lost();
 
-  // `global` moved by its miss at the nearest followed jaw dot (`jaw`, nearest first): the face's
-  // fit follows the skull, and an open jaw carries the chin tens of pixels below where it puts
-  // it, onto the lower lip's dot.
-  cv::Matx23d moved_with(const cv::Matx23d& global,
-                         const std::vector<std::pair<double, size_t>>& jaw) const;
+  // `global` moved by its miss at the followed jaw dot nearest dot i at the start (i aside;
+  // `global` itself when there is none): the face's fit follows the skull, and an open jaw
+  // carries the chin tens of pixels below where it puts it, onto the lower lip's dot.
+  cv::Matx23d moved_with_jaw(const cv::Matx23d& global, size_t i) const;
 
   // A lid dot lies at another depth than its neighbours, so under a head turn the start
   // positions' fit puts it pixels off (onto the eye corner, for a lower lid: 23 px in the
@@ -550,6 +545,8 @@ struct MarkerTracker::Impl {
   // expected place as this one's (IdentificationOptions::unnamed_rival, as at the start), is
   // not marker i.
   bool belongs_to(size_t i, cv::Point2d at, double scale) const;
+  // A followed dot lies within half its spacing (times `scale`, the face's) of `at`.
+  bool followed_dot_at(cv::Point2d at, double scale) const;
 };
 
 }  // namespace rostro::tracking
