@@ -17,7 +17,7 @@ void TrackedTake::add(const cv::Mat& image) {
       backfill_.take(now, frames_, image);
   tracking::append_corrected(frames_, std::move(now));
   for (const tracking::MarkerState& s : tracker_.states())
-    if (!s.valid) ++lost_by_[static_cast<std::size_t>(s.lost_reason)];
+    if (!s.valid || s.held) ++lost_by_[static_cast<std::size_t>(s.lost_reason)];
 }
 
 }  // namespace rostro::eval

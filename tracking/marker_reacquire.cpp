@@ -207,6 +207,9 @@ bool MarkerTracker::Impl::looks_like_itself(size_t i, const Dot& d) const {
 
 void MarkerTracker::Impl::found_on(size_t i, const Dot& d) {
   MarkerState& s = states[i];
+  // Found by a search, not carried by LK: reported from the next frame after a loss.
+  const int hold_after = options.hold_found_after_lost;
+  s.held = hold_after > 0 && s.lost_frames >= hold_after;
   s.valid = true, s.position = d.center, s.lost_reason = LostReason::None;
   recent_diameter[i] = last_diameter[i] = d.diameter, recent_elongation[i] = d.elongation;
   s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);

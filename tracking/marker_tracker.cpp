@@ -198,6 +198,7 @@ void MarkerTracker::set_start_positions(const std::map<std::string, cv::Point2d>
 TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_s) {
   Impl& m = *impl_;
   m.step_times.clear();
+  for (MarkerState& s : m.states) s.held = false;
   m.to_gray(image);
   if (m.started) {
     // LK needs this frame's pyramid the size of the previous one: it moves with the markers.
@@ -267,12 +268,14 @@ TrackedFrame MarkerTracker::track(const cv::Mat& image, long frame, double time_
     // Found again after being lost: its name was chosen by re-acquisition, not carried by LK.
     if (s.valid && s.lost_frames > 0 && m.started_at != frame)
       m.unconfirmed.insert(static_cast<size_t>(&s - m.states.data()));
+    s.held = s.held && s.valid;  // found again this frame (Impl::found_on)
+    if (s.held) s.lost_reason = LostReason::FoundAgain;
     s.lost_frames = s.valid ? 0 : s.lost_frames + 1;
     if (!s.valid) s.quality = 0;
     MarkerObservation o;
     o.marker = s.spec->id;
     o.feature_point = s.spec->feature_point;
-    o.valid = s.valid;
+    o.valid = s.valid && !s.held;
     o.position = s.valid ? s.position : cv::Point2d(std::nan(""), std::nan(""));
     o.quality = s.quality;
     out.markers.push_back(o);
@@ -300,6 +303,7 @@ void TrackerOptions::validate() const {
       .positive("search_fraction", search_fraction)
       .not_negative("max_relative_motion", max_relative_motion)
       .not_negative("max_relative_motion_px", max_relative_motion_px)
+      .not_negative("hold_found_after_lost", hold_found_after_lost)
       .not_negative("min_identified", min_identified)
       .not_negative("identity_check_every", identity_check_every)
       .not_negative("second_look_after", second_look_after)
@@ -346,6 +350,7 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, lower_lip.with_the_jaw),
       ROSTRO_NAMED_OPTION(O, start_place_when_found),
       ROSTRO_NAMED_OPTION(O, swap_back_pairs),
+      ROSTRO_NAMED_OPTION(O, hold_found_after_lost),
       ROSTRO_NAMED_OPTION(O, lower_lip.up),
       ROSTRO_NAMED_OPTION(O, lower_lip.down),
       ROSTRO_NAMED_OPTION(O, lower_lip.sideways),
@@ -408,6 +413,8 @@ const char* to_string(LostReason r) {
       return "tag lost";
     case LostReason::TooFew:
       return "too few";
+    case LostReason::FoundAgain:
+      return "found again";
   }
   return "?";
 }

@@ -12,12 +12,13 @@ void draw_overlay(cv::Mat& image, const std::vector<MarkerState>& states, long f
   const double font = std::max(0.35, image.rows / 1800.0);
   int valid_count = 0;
   for (const MarkerState& s : states) {
-    if (s.valid) ++valid_count;
+    const bool reported = s.valid && !s.held;  // a held dot is followed, not yet reported
+    if (reported) ++valid_count;
     if (!std::isfinite(s.position.x) || (!s.valid && s.lost_frames == 0)) continue;
     if (s.position == cv::Point2d()) continue;  // never seen
     const cv::Point p(static_cast<int>(std::lround(s.position.x)),
                       static_cast<int>(std::lround(s.position.y)));
-    const cv::Scalar colour = s.valid ? valid : lost;
+    const cv::Scalar colour = reported ? valid : lost;
     if (s.spec->is_tag() && s.valid) {
       for (int k = 0; k < 4; ++k)
         cv::line(image, s.corners[k], s.corners[(k + 1) % 4], colour, 1, cv::LINE_AA);
@@ -27,7 +28,8 @@ void draw_overlay(cv::Mat& image, const std::vector<MarkerState>& states, long f
     } else {
       cv::circle(image, p, 7, colour, 1, cv::LINE_AA);
     }
-    const std::string label = s.valid ? s.spec->id : s.spec->id + " lost";
+    const std::string label =
+        reported ? s.spec->id : s.spec->id + (s.held ? " found again" : " lost");
     cv::putText(image, label, p + cv::Point(6, -5), cv::FONT_HERSHEY_SIMPLEX, font, colour, 1,
                 cv::LINE_AA);
   }
