@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <functional>
 #include <map>
 #include <opencv2/imgproc.hpp>
 #include <set>
@@ -120,20 +119,33 @@ SceneOptions still_dots() {
   return o;
 }
 
-using FrameCheck = std::function<void(int k, const TrackedFrame&, const std::vector<MarkerState>&,
-                                      const std::map<std::string, Truth>&)>;
+// One marker in one frame: as tracked (reported or not, its state after the frame) and as drawn.
+struct OneMarker {
+  bool reported = false;
+  cv::Point2d at;  // when reported
+  bool held = false;
+  LostReason lost_reason = LostReason::None;
+  Truth truth;
+};
 
-// Frames 0 to `last` of `scene_options` tracked with `options`; `check` sees each frame's
-// tracks, the tracker's states after it, and the truth.
-void track_frames(const MarkerLayout& layout, const SceneOptions& scene_options,
-                  const TrackerOptions& options, int last, const FrameCheck& check) {
+// Marker `id` in frames 0 to `last` of `scene_options` tracked with `options`.
+std::vector<OneMarker> follow_one(const MarkerLayout& layout, const SceneOptions& scene_options,
+                                  const TrackerOptions& options, int last, const std::string& id) {
   SyntheticScene scene(layout, scene_options);
   MarkerTracker tracker(layout, options);
+  std::vector<OneMarker> frames;
   for (int k = 0; k <= last; ++k) {
     std::map<std::string, Truth> truth;
     const TrackedFrame tf = tracker.track(scene.render(k, truth), k, k / 30.0);
-    check(k, tf, tracker.states(), truth);
+    OneMarker one;
+    one.truth = truth.at(id);
+    for (const MarkerObservation& m : tf.markers)
+      if (m.marker == id) one.reported = m.valid, one.at = m.position;
+    for (const MarkerState& st : tracker.states())
+      if (st.spec->id == id) one.held = st.held, one.lost_reason = st.lost_reason;
+    frames.push_back(one);
   }
+  return frames;
 }
 
 }  // namespace
@@ -301,21 +313,18 @@ TEST(Tracker, ADotAnEdgeCutsIntoIsDroppedNotReportedOffItsPlace) {
   auto follow = [&](double min_recent_size) {
     TrackerOptions options = options_for(o);
     options.min_recent_size = min_recent_size;
+    const std::vector<OneMarker> frames = follow_one(layout, o, options, 12, "cheek_l");
     Seen seen;
-    track_frames(layout, o, options, 12,
-                 [&](int k, const TrackedFrame& tf, const auto& states, const auto& truth) {
-                   if (k < 10) return;
-                   EXPECT_FALSE(truth.at("cheek_l").visible) << "frame " << k;
-                   EXPECT_FALSE(truth.at("cheek_l").hidden) << "frame " << k;
-                   for (const MarkerState& s : states)
-                     if (s.spec->id == "cheek_l" && s.lost_reason == LostReason::Shrunk)
-                       ++seen.dropped_as_shrunk;
-                   for (const MarkerObservation& m : tf.markers)
-                     if (m.marker == "cheek_l" && m.valid) {
-                       ++seen.reported;
-                       seen.worst_px = std::max(seen.worst_px, cv::norm(m.position - dot));
-                     }
-                 });
+    for (int k = 10; k <= 12; ++k) {
+      const OneMarker& f = frames[static_cast<size_t>(k)];
+      EXPECT_FALSE(f.truth.visible) << "frame " << k;
+      EXPECT_FALSE(f.truth.hidden) << "frame " << k;
+      seen.dropped_as_shrunk += f.lost_reason == LostReason::Shrunk;
+      if (f.reported) {
+        ++seen.reported;
+        seen.worst_px = std::max(seen.worst_px, cv::norm(f.at - dot));
+      }
+    }
     return seen;
   };
   const Seen with_rule = follow(TrackerOptions().min_recent_size);
@@ -350,21 +359,15 @@ TEST(Tracker, ADotComingOutFromUnderAnEdgeIsReportedFromItsNextFrame) {
   auto follow = [&](int hold_found_after_lost) {
     TrackerOptions options = options_for(o);
     options.hold_found_after_lost = hold_found_after_lost;
+    const std::vector<OneMarker> frames = follow_one(layout, o, options, 24, "cheek_l");
     Seen seen;
-    track_frames(layout, o, options, 24,
-                 [&](int k, const TrackedFrame& tf, const auto& states, const auto& truth) {
-                   if (k < 10) return;
-                   for (const MarkerState& s : states)
-                     if (s.spec->id == "cheek_l" && k == 20)
-                       seen.held_on_20 =
-                           s.held && s.valid && s.lost_reason == LostReason::FoundAgain;
-                   for (const MarkerObservation& m : tf.markers)
-                     if (m.marker == "cheek_l" && m.valid) {
-                       seen.reported_from.push_back(k);
-                       const double off = cv::norm(m.position - truth.at("cheek_l").position);
-                       seen.worst_px = std::max(seen.worst_px, off);
-                     }
-                 });
+    seen.held_on_20 = frames[20].held && frames[20].lost_reason == LostReason::FoundAgain;
+    for (int k = 10; k <= 24; ++k) {
+      const OneMarker& f = frames[static_cast<size_t>(k)];
+      if (!f.reported) continue;
+      seen.reported_from.push_back(k);
+      seen.worst_px = std::max(seen.worst_px, cv::norm(f.at - f.truth.position));
+    }
     return seen;
   };
   const Seen held = follow(TrackerOptions().hold_found_after_lost);
