@@ -205,7 +205,7 @@ struct Scene {
 };
 
 struct SuiteArgs {
-  std::string suite, layout, head, markdown, only;
+  std::string suite, layout, head, markdown, only, out;
   std::vector<std::string> tracker_options;  // NAME=VALUE
 };
 
@@ -233,14 +233,30 @@ void eval_suite(const SuiteArgs& a) {
     const auto& s = chosen[i];
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.seconds * s.fps));
+    // With --out, the clip as rendered and the tracks behind its row, as `eval photos --out`.
+    const std::filesystem::path dir(a.out);
+    std::optional<render::VideoWriter> video;
+    if (!a.out.empty()) {
+      std::filesystem::create_directories(dir);
+      render::VideoOptions v;
+      v.fps = s.fps;
+      video.emplace(dir / (s.name + ".mp4"), v);
+    }
     rows.push_back(eval::run_scenario(
         s, scene.model, &scene.library, scene.layout,
         [&](long done, long total) {
           interrupt.throw_if_requested();
           progress.update(done, total);
         },
-        tracker));
+        tracker,
+        video ? eval::ScenarioFrameSink([&](const cv::Mat& bgr) { video->write(bgr); })
+              : eval::ScenarioFrameSink()));
     progress.finish();
+    if (video) {
+      video->finish();
+      tracking::write_tracks(dir / (s.name + ".tracks.csv"), rows.back().tracks);
+      tracking::write_tracks(dir / (s.name + ".truth.csv"), rows.back().truth);
+    }
   }
   std::fputs(eval::suite_table_text(rows).c_str(), stdout);
   std::printf("\nlost marker-frames by the rule that dropped them\n%s",
@@ -307,8 +323,8 @@ void eval_photos(const PhotosArgs& a) {
     progress.finish();
     if (video) {
       video->finish();
-      tracking::write_tracks(dir / (s.name + ".tracks.csv"), rows.back().tracks);
-      tracking::write_tracks(dir / (s.name + ".truth.csv"), rows.back().truth);
+      tracking::write_tracks(dir / (s.name + ".tracks.csv"), rows.back().suite.tracks);
+      tracking::write_tracks(dir / (s.name + ".truth.csv"), rows.back().suite.truth);
     }
   }
   std::vector<eval::SuiteRow> suite_rows;
@@ -614,13 +630,18 @@ void add_eval_commands(CLI::App& app) {
                     "face model JSON to render, e.g. from rostro head (default: the default "
                     "head)");
   suite->add_option("--only", su.only, "run only these scenarios, e.g. still,turns");
+  suite->add_option("--out", su.out,
+                    "also write each scenario here as a video and its tracked and exact marker "
+                    "tracks (NAME.mp4, NAME.tracks.csv, NAME.truth.csv)");
   suite->add_option("--markdown", su.markdown,
                     "write the table into this Markdown file's \"## Suite table\" section");
   suite->add_option(
       "--tracker-option", su.tracker_options,
       "set a TrackerOptions field, NAME=VALUE (repeatable), e.g. "
       "eyes.max_dot_growth_found=1.3, lower_lip.together=false, dots.max_elongation=4");
-  suite->footer("Example:\n  rostro eval suite --markdown docs/accuracy.md");
+  suite->footer(
+      "Example:\n  rostro eval suite --markdown docs/accuracy.md\n  rostro eval suite --only mouth "
+      "--out suite-clips");
   suite->callback([] { eval_suite(su); });
 
   static PhotosArgs ph;

@@ -169,8 +169,8 @@ PhotoRow run_photo_scenario(const PhotoScenario& s, const std::filesystem::path&
   row.suite.frames = static_cast<long>(take.frames().size());
   row.suite.result = evaluate_tracks(scene.truth, take.frames());
   count_hidden_and_reacquire(scene.truth, take.frames(), row);
-  row.truth = scene.truth;
-  row.tracks = take.take_frames();
+  row.suite.truth = scene.truth;
+  row.suite.tracks = take.take_frames();
   return row;
 }
 

@@ -51,8 +51,7 @@ struct PhotoRow {
   // truth; -1 when one never came back before it was hidden again or the take ended; 0 when
   // every one was back on its first visible frame or there was no such occlusion.
   long worst_reacquire = 0;
-  long occlusions = 0;                                // such returns into view counted
-  std::vector<tracking::TrackedFrame> truth, tracks;  // behind the figures, one per frame
+  long occlusions = 0;  // such returns into view counted
 };
 
 // Renders and tracks one scenario with `layout`; `faces` is the folder its photo is in. Each

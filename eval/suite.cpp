@@ -22,16 +22,21 @@ namespace {
 
 using nlohmann::json;
 
-// A frame sink that tracks each frame as it is rendered: no clip is kept in memory or on disk.
+// A frame sink that tracks each frame as it is rendered: no clip is kept in memory or on disk
+// (unless `frames` keeps it).
 class TrackingSink : public render::FrameSink {
  public:
-  explicit TrackingSink(TrackedTake& take) : take_(take) {}
-  void write(const cv::Mat& bgr) override { take_.add(bgr); }
+  TrackingSink(TrackedTake& take, const ScenarioFrameSink& frames) : take_(take), frames_(frames) {}
+  void write(const cv::Mat& bgr) override {
+    if (frames_) frames_(bgr);
+    take_.add(bgr);
+  }
   void finish() override {}
   long frames_written() const override { return static_cast<long>(take_.frames().size()); }
 
  private:
   TrackedTake& take_;
+  const ScenarioFrameSink& frames_;
 };
 
 SuiteScenario parse_scenario(const json& j, const json& defaults, const std::string& where) {
@@ -106,7 +111,8 @@ SuiteDefinition load_suite(const std::filesystem::path& path) {
 SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
                       const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
                       const std::function<void(long, long)>& progress,
-                      const tracking::TrackerOptions& tracker_options) {
+                      const tracking::TrackerOptions& tracker_options,
+                      const ScenarioFrameSink& frames) {
   FapStream drive = s.fap.empty() ? range_of_motion(s.fps) : read_fap_stream(s.fap);
   if (s.fap.empty()) drive.header.fps = s.fps;
   const auto keep = static_cast<std::size_t>(std::lround(s.seconds * drive.header.fps));
@@ -120,7 +126,7 @@ SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
   const auto markers = place_markers(model, layout);
   tracking::MarkerTracker tracker(layout, tracker_options);
   TrackedTake take(tracker, drive.header.fps);
-  TrackingSink sink(take);
+  TrackingSink sink(take, frames);
   const long total = drive.header.frame_count;
   const SynthResult truth = synthesize(model, library, markers, drive, o, sink, [&](long done) {
     if (progress) progress(done, total);
@@ -131,6 +137,8 @@ SuiteRow run_scenario(const SuiteScenario& s, const FaceModel& model,
   row.frames = total;
   row.result = evaluate_tracks(truth.truth, take.frames());
   row.lost_by = take.lost_by();
+  row.truth = truth.truth;
+  row.tracks = take.take_frames();
   return row;
 }
 

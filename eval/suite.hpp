@@ -51,7 +51,12 @@ struct SuiteRow {
   // Marker-frames the tracker reported lost, by tracking::LostReason (None stays 0): every
   // layout marker, visible in the truth or not.
   std::array<long, tracking::kLostReasonCount> lost_by{};
+  std::vector<tracking::TrackedFrame> truth, tracks;  // behind the figures, one per frame
 };
+
+// Each frame as rendered (8-bit BGR), before it is tracked: `rostro eval suite --out` writes
+// them to a video.
+using ScenarioFrameSink = std::function<void(const cv::Mat& bgr)>;
 
 // Progress: (scenario index, frames done in it, frames in it).
 using SuiteProgress = std::function<void(std::size_t, long, long)>;
@@ -61,7 +66,8 @@ using SuiteProgress = std::function<void(std::size_t, long, long)>;
 SuiteRow run_scenario(const SuiteScenario& scenario, const FaceModel& model,
                       const ExpressionLibrary* library, const tracking::MarkerLayout& layout,
                       const std::function<void(long, long)>& progress = {},
-                      const tracking::TrackerOptions& tracker_options = {});
+                      const tracking::TrackerOptions& tracker_options = {},
+                      const ScenarioFrameSink& frames = {});
 
 // The table: scenario, NME mean, AUC@0.08, failure rate, lost frames, swaps (events).
 std::string suite_table_markdown(const std::vector<SuiteRow>& rows);

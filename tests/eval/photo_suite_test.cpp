@@ -100,14 +100,14 @@ TEST(PhotoSuite, ARunKeepsItsFramesTracksAndTruth) {
     ++frames;
   });
   EXPECT_EQ(frames, 10);
-  ASSERT_EQ(row.tracks.size(), 10u);
-  ASSERT_EQ(row.truth.size(), 10u);
+  ASSERT_EQ(row.suite.tracks.size(), 10u);
+  ASSERT_EQ(row.suite.truth.size(), 10u);
   EXPECT_EQ(row.suite.frames, 10);
   // Every layout marker in both, each frame; the tracker starts on a still, sharp face.
-  const auto& first = row.tracks.front().markers;
+  const auto& first = row.suite.tracks.front().markers;
   EXPECT_TRUE(std::any_of(first.begin(), first.end(),
                           [](const tracking::MarkerObservation& m) { return m.valid; }));
-  EXPECT_EQ(first.size(), row.truth.front().markers.size());
+  EXPECT_EQ(first.size(), row.suite.truth.front().markers.size());
 }
 
 // The scene of that name in a scenes file of data/eval/ (default: photo_scenes.json).
@@ -203,16 +203,16 @@ TEST(PhotoSuite, TheIdentityCheckRenamesAWrongStartingNameAndOnlyRightly) {
     return tracking::MarkerObservation{};
   };
   int renames = 0;
-  for (std::size_t k = 0; k < row.tracks.size(); ++k) {
-    const std::string& note = row.tracks[k].identification;
+  for (std::size_t k = 0; k < row.suite.tracks.size(); ++k) {
+    const std::string& note = row.suite.tracks[k].identification;
     const std::string lead = "identities checked: renamed";
     if (note.rfind(lead, 0) != 0) continue;
     std::istringstream words(note.substr(lead.size()));
     std::string from, arrow, to;
     while (words >> from >> arrow >> to) {
       ++renames;
-      const tracking::MarkerObservation tracked = at(row.tracks[k], to);
-      const tracking::MarkerObservation truth = at(row.truth[k], to);
+      const tracking::MarkerObservation tracked = at(row.suite.tracks[k], to);
+      const tracking::MarkerObservation truth = at(row.suite.truth[k], to);
       ASSERT_TRUE(tracked.valid) << note;
       EXPECT_LT(cv::norm(tracked.position - truth.position), 2.0)
           << "frame " << k << ": " << from << " renamed " << to << " away from " << to << "'s dot";
@@ -220,10 +220,11 @@ TEST(PhotoSuite, TheIdentityCheckRenamesAWrongStartingNameAndOnlyRightly) {
   }
   EXPECT_GE(renames, 1) << "the wrong starting name was never corrected";
   // From the rename on, no dot is followed under another's name.
-  ASSERT_GE(row.tracks.size(), 20u);
-  EXPECT_EQ(evaluate_tracks(std::span(row.truth).last(20), std::span(row.tracks).last(20))
-                .swap_observations,
-            0);
+  ASSERT_GE(row.suite.tracks.size(), 20u);
+  EXPECT_EQ(
+      evaluate_tracks(std::span(row.suite.truth).last(20), std::span(row.suite.tracks).last(20))
+          .swap_observations,
+      0);
 }
 
 // The talk scene as the tracker runs by default starts with the middle lower-lip dot
@@ -234,14 +235,14 @@ TEST(PhotoSuite, TheSecondLooksRenamesReachBackToTheStart) {
   const std::optional<PhotoRow> row = default_row("talk");
   if (!row) GTEST_SKIP() << without_shared();
   int corrected = 0;
-  for (const tracking::TrackedFrame& f : row->tracks)
+  for (const tracking::TrackedFrame& f : row->suite.tracks)
     if (!f.corrections.empty()) {
       ++corrected;
       EXPECT_GE(f.corrected_since, 0);
       EXPECT_LT(f.corrected_since, f.frame);
     }
   EXPECT_GE(corrected, 1) << "the start was right: this scene no longer shows the carrying back";
-  EXPECT_EQ(evaluate_tracks(row->truth, row->tracks).swap_observations, 0);
+  EXPECT_EQ(evaluate_tracks(row->suite.truth, row->suite.tracks).swap_observations, 0);
 }
 
 // The first 1.2 s (30 frames) of the default file's blurred scene `name`, tracked with
@@ -257,7 +258,7 @@ PhotoRow blurred_start(const std::string& name, const tracking::TrackerOptions& 
 // The last frame whose identification note begins with `lead`; -1 when none does.
 long last_noted(const PhotoRow& row, const std::string& lead) {
   long at = -1;
-  for (const tracking::TrackedFrame& f : row.tracks)
+  for (const tracking::TrackedFrame& f : row.suite.tracks)
     if (f.identification.rfind(lead, 0) == 0) at = f.frame;
   return at;
 }
@@ -269,7 +270,8 @@ std::span<const tracking::TrackedFrame> after_second_look(
 }
 
 TrackEvalResult after_second_look(const PhotoRow& row, std::size_t count = 0) {
-  return evaluate_tracks(after_second_look(row.truth, count), after_second_look(row.tracks, count));
+  return evaluate_tracks(after_second_look(row.suite.truth, count),
+                         after_second_look(row.suite.tracks, count));
 }
 
 tracking::TrackerOptions without_second_look() {
@@ -287,7 +289,7 @@ TEST(PhotoSuite, ASmearedStartIsNamedAgainOnASharpFrame) {
     GTEST_SKIP() << default_faces_dir() << " is absent (../shared beside the repository)";
   const PhotoRow row = blurred_start("blur_seed2");
   EXPECT_EQ(last_noted(row, "identified again"), 12);  // 10 frames after the start
-  ASSERT_EQ(row.tracks.size(), 30u);
+  ASSERT_EQ(row.suite.tracks.size(), 30u);
   EXPECT_EQ(after_second_look(row).astray_observations, 0);
   EXPECT_EQ(after_second_look(row).swap_observations, 0);
   // Without it, the lip corner keeps the name.
@@ -310,11 +312,12 @@ TEST(PhotoSuite, TwoLessSureLooksThatAgreeOutvoteTheStart) {
   scene->scene.seconds = 2;  // the head turns as over the 5 s scene's first 2 s
   const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
   const auto from_frame_32 = [](const PhotoRow& row) {
-    return evaluate_tracks(std::span(row.truth).subspan(32), std::span(row.tracks).subspan(32));
+    return evaluate_tracks(std::span(row.suite.truth).subspan(32),
+                           std::span(row.suite.tracks).subspan(32));
   };
   const PhotoRow row = run_photo_scenario(*scene, default_faces_dir(), layout, {}, {});
   EXPECT_EQ(last_noted(row, "identified again"), 32);
-  ASSERT_EQ(row.tracks.size(), 50u);
+  ASSERT_EQ(row.suite.tracks.size(), 50u);
   EXPECT_EQ(from_frame_32(row).astray_observations, 0);
   EXPECT_EQ(from_frame_32(row).swap_observations, 0);
   // With two looks only, the lip corner keeps the name.
@@ -341,23 +344,23 @@ TEST(PhotoSuite, ASecondNamingAsSureWithinItsNoiseStartsTheTakeAgain) {
                                           tracking::load_layout(tracking::default_layout_path()),
                                           {}, looked_for_at_points());
   EXPECT_EQ(last_noted(row, "identified again"), 33);  // 10 frames after the start
-  ASSERT_EQ(row.tracks.size(), 50u);
-  const TrackEvalResult after =
-      evaluate_tracks(std::span(row.truth).subspan(33), std::span(row.tracks).subspan(33));
+  ASSERT_EQ(row.suite.tracks.size(), 50u);
+  const TrackEvalResult after = evaluate_tracks(std::span(row.suite.truth).subspan(33),
+                                                std::span(row.suite.tracks).subspan(33));
   EXPECT_EQ(after.swap_observations, 0);
   EXPECT_EQ(after.astray_observations, 0);
   // Before it, the start (frame 23) had the mid-brow's name on the lid's dot: frame 33 says so,
   // and the frames before are written under the right names, back to frame 20 (20-22 followed
   // back from the start, tracking/start_backfill.hpp).
   bool mid_brow_renamed = false;
-  for (const tracking::NameCorrection& c : row.tracks[33].corrections)
+  for (const tracking::NameCorrection& c : row.suite.tracks[33].corrections)
     mid_brow_renamed |= c.from.starts_with("brow_r_mid");
   EXPECT_TRUE(mid_brow_renamed);
-  EXPECT_EQ(row.tracks[33].corrected_since, 20);
-  EXPECT_EQ(
-      evaluate_tracks(std::span(row.truth).subspan(20, 13), std::span(row.tracks).subspan(20, 13))
-          .swap_observations,
-      0);
+  EXPECT_EQ(row.suite.tracks[33].corrected_since, 20);
+  EXPECT_EQ(evaluate_tracks(std::span(row.suite.truth).subspan(20, 13),
+                            std::span(row.suite.tracks).subspan(20, 13))
+                .swap_observations,
+            0);
 }
 
 // Re-acquisition taking any blob that passes the dot checks, its look not asked
@@ -380,7 +383,8 @@ TEST(PhotoSuite, AnEyeDotNamedOnTheEyesCornerIsPlacedBackByItsLook) {
   ASSERT_TRUE(scene);
   const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
   const auto after_it = [](const PhotoRow& row) {
-    return evaluate_tracks(std::span(row.truth).subspan(11), std::span(row.tracks).subspan(11));
+    return evaluate_tracks(std::span(row.suite.truth).subspan(11),
+                           std::span(row.suite.tracks).subspan(11));
   };
   tracking::TrackerOptions faint_weighed_less = looked_for_at_points();
   faint_weighed_less.identification.ink_weight = 0.15;

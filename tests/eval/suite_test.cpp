@@ -153,5 +153,37 @@ TEST(Suite, TheMouthClipsMergedPairsGetTheirNamesBack) {
   EXPECT_LE(rows.with.result.astray_observations, rows.other.result.astray_observations);
 }
 
+// What `rostro eval suite --out` writes: each frame as rendered, handed out before it is
+// tracked, and the tracks and truth behind the row, one per frame, that score as the row does.
+TEST(Suite, ARowKeepsItsTracksAndHandsOutEachFrame) {
+  SuiteScenario still = load_suite(default_suite_path()).scenarios.front();
+  ASSERT_EQ(still.name, "still");
+  still.seconds = 0.4;
+  std::optional<SuiteRow> row;
+  long handed = 0;
+  cv::Size size;
+  try {
+    const FaceModel model = load_default_face_model();
+    const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
+    row = run_scenario(still, model, nullptr, layout, {}, {}, [&](const cv::Mat& bgr) {
+      ++handed;
+      size = bgr.size();
+    });
+  } catch (const InputError& e) {
+    GTEST_SKIP() << "no default head: " << e.what();
+  } catch (const render::RenderUnavailable& e) {
+    GTEST_SKIP() << "no OpenGL: " << e.what();
+  }
+  ASSERT_EQ(row->frames, 10);
+  EXPECT_EQ(handed, row->frames);
+  EXPECT_EQ(size, cv::Size(640, 480));
+  ASSERT_EQ(static_cast<long>(row->tracks.size()), row->frames);
+  ASSERT_EQ(static_cast<long>(row->truth.size()), row->frames);
+  const TrackEvalResult again = evaluate_tracks(row->truth, row->tracks);
+  EXPECT_EQ(again.scored_observations, row->result.scored_observations);
+  EXPECT_EQ(again.error_px.mean, row->result.error_px.mean);
+  EXPECT_GT(again.scored_observations, 0);
+}
+
 }  // namespace
 }  // namespace rostro::eval
