@@ -73,6 +73,9 @@ std::vector<std::string> MarkerTracker::Impl::placed_by_look(const Identificatio
     const std::optional<Dot> fresh = refine_dot(gray, named->second.center, 2, dot_options(i));
     if (!fresh) continue;
     if (s.valid) {
+      // Only onto a blob that looks like its dot, as a lost dot is found again: where the
+      // followed dot cannot be measured afresh (beside the dark lip), the lip's edge passed.
+      if (!looks_like_itself(i, *fresh)) continue;
       const std::optional<Dot> followed = refine_dot(gray, s.position, 2, dot_options(i));
       if (followed && unlike_a_dot(*followed) <= unlike_a_dot(*fresh)) continue;
     }

@@ -240,7 +240,9 @@ struct MarkerTracker::Impl {
 
   // The names the second look's naming puts more than a dot's width from where they are
   // followed (or finds while they are lost), each placed on the naming's dot where that looks
-  // more like a dot than the one followed, and no other followed dot is on it. Which of the two
+  // more like a dot than the one followed and, for a followed name, about as much like its own
+  // dot as it has looked (TrackerOptions::found_look_allowance, as when a lost dot is found), and
+  // no other followed dot is on it. Which of the two
   // is the dot cannot be told by where they lie: LK carries an eye dot onto the eye's corner
   // while a blur fades (the followed one is wrong), and the landmarks that place the names lie
   // toward the eyes' dark features on the rendered head (the naming is wrong).

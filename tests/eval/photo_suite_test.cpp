@@ -175,6 +175,13 @@ std::string without_shared() {
   return default_faces_dir().string() + " is absent (../shared beside the repository)";
 }
 
+// Marker `id` in frame `f` (a default, invalid observation when the frame lacks it).
+tracking::MarkerObservation at(const tracking::TrackedFrame& f, const std::string& id) {
+  for (const tracking::MarkerObservation& m : f.markers)
+    if (m.marker == id) return m;
+  return {};
+}
+
 // The scenes of the next tests started with a wrong name while the face model's places were
 // the dots' feature points themselves; each dot looked for `beside` its point, as the layout
 // says it is worn (IdentificationOptions::dots_beside_points), they start right. The mechanisms
@@ -197,11 +204,6 @@ TEST(PhotoSuite, TheIdentityCheckRenamesAWrongStartingNameAndOnlyRightly) {
   ASSERT_TRUE(scene);
   const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
   const PhotoRow row = run_photo_scenario(*scene, faces, layout, {}, looked_for_at_points());
-  auto at = [](const tracking::TrackedFrame& f, const std::string& id) {
-    for (const tracking::MarkerObservation& m : f.markers)
-      if (m.marker == id) return m;
-    return tracking::MarkerObservation{};
-  };
   int renames = 0;
   for (std::size_t k = 0; k < row.suite.tracks.size(); ++k) {
     const std::string& note = row.suite.tracks[k].identification;
@@ -396,6 +398,31 @@ TEST(PhotoSuite, AnEyeDotNamedOnTheEyesCornerIsPlacedBackByItsLook) {
   without.second_look_after = 0;
   const PhotoRow without_it = run_photo_scenario(*scene, default_faces_dir(), layout, {}, without);
   EXPECT_GT(after_it(without_it).astray_observations, 50);
+}
+
+// The held-out hand scene of seed 8 (2008_001009.jpg, talking): on frame 10 the second look
+// names the left upper-lip dot, followed on its dot, on the lip's edge 17 px off. The followed
+// dot, beside the dark lip, cannot be measured afresh there, and the blob on the edge passes
+// the dot checks but looks far less like a dot than the followed one has (Dot::surround +
+// elongation - 1: 0.77 against its usual 0.33). A followed name is moved by the second look only
+// onto a blob that looks like its dot, as a lost dot is found again
+// (TrackerOptions::found_look_allowance); moved onto any blob that passes, it sat on the lip's
+// edge for two frames, 17 px from its dot.
+TEST(PhotoSuite, TheSecondLookMovesNoFollowedNameOntoABlobUnlikeItsDot) {
+  if (!std::filesystem::is_directory(default_faces_dir()))
+    GTEST_SKIP() << default_faces_dir() << " is absent (../shared beside the repository)";
+  const std::optional<PhotoScenario> scene =
+      default_scenario("hand_s8", "photo_scenes_heldout.json");
+  ASSERT_TRUE(scene);
+  const PhotoRow row = run_photo_scenario(*scene, default_faces_dir(),
+                                          tracking::load_layout(tracking::default_layout_path()));
+  for (long k : {10, 11}) {
+    const auto tracked = at(row.suite.tracks[k], "lip_top_l");
+    const auto truth = at(row.suite.truth[k], "lip_top_l");
+    ASSERT_TRUE(truth.valid);
+    ASSERT_TRUE(tracked.valid) << "frame " << k;
+    EXPECT_LT(cv::norm(tracked.position - truth.position), 0.5) << "frame " << k;
+  }
 }
 
 // The held-out hand scene of seed 7 (2008_001009.jpg, talking), its dots looked for at their
