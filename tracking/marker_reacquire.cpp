@@ -1,5 +1,6 @@
-// Finding lost markers again: where their neighbours put them (the lids carried from where
-// they were last seen, the lower lip with the jaw), each found only where it looks like itself.
+// Finding lost markers again: where their neighbours put them (the lids, the upper lip and the
+// mouth's corners carried from where they were last seen, the lower lip with the jaw), each found
+// only where it looks like itself.
 #include "tracking/marker_tracker_impl.hpp"
 
 namespace rostro::tracking {
@@ -152,7 +153,7 @@ void MarkerTracker::Impl::remember_last_seen(const std::vector<bool>& was_valid,
 
 std::optional<cv::Point2d> MarkerTracker::Impl::carried(size_t i) const {
   if (i >= last_seen.size() || !last_seen[i].known) return std::nullopt;
-  if (!is_lid(i) && states[i].lost_frames > 0) return std::nullopt;
+  if (!carried_while_lost(i) && states[i].lost_frames > 0) return std::nullopt;
   const LastSeen& l = last_seen[i];
   std::vector<cv::Point2d> from, to;
   for (const auto& [j, at] : l.anchors) {

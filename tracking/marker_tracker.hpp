@@ -23,7 +23,8 @@
 //  4. an invalid marker is looked for near where its valid neighbours say it should be
 //     (an affine fit of the neighbours' start positions to their current ones; a lid dot is
 //     carried instead from where it was last seen with its neighbours' motion since, as the
-//     eyes sit at another depth; any dot so in the frame it is lost in), among every dot there,
+//     eyes sit at another depth, and so is an upper-lip or mouth-corner dot, as the mouth
+//     deforms far from its start; any dot so in the frame it is lost in), among every dot there,
 //     nearest first, and comes back with its own identity; it is never guessed while unseen. A lid
 //     dot is only accepted between its eye's corner line and not far beyond its start distance from
 //     it. The lower lip's dots are looked for together, below the upper lip, and found again

@@ -98,8 +98,40 @@ TEST(Suite, LossTableHasAColumnPerReasonCounted) {
             "scenario     jump tag lost\nstill           3        0\nturns           0       12\n");
 }
 
+// The default suite's scenario of that name.
+SuiteScenario default_scenario(const std::string& name) {
+  for (const SuiteScenario& s : load_suite(default_suite_path()).scenarios)
+    if (s.name == name) return s;
+  ADD_FAILURE() << "no scenario " << name << " in " << default_suite_path();
+  return {};
+}
+
+// `scenario` rendered on the default head and tracked with `options`: its row, or why it could
+// not be made (no default head, no OpenGL).
+struct DefaultHeadRow {
+  SuiteRow row;
+  std::string unavailable;
+};
+
+DefaultHeadRow on_default_head(const SuiteScenario& scenario,
+                               const tracking::TrackerOptions& options = {},
+                               const ScenarioFrameSink& frames = {}) {
+  DefaultHeadRow out;
+  try {
+    const FaceModel model = load_default_face_model();
+    const ExpressionLibrary library = ExpressionLibrary::load_default();
+    const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
+    out.row = run_scenario(scenario, model, &library, layout, {}, options, frames);
+  } catch (const InputError& e) {
+    out.unavailable = std::string("no default head: ") + e.what();
+  } catch (const render::RenderUnavailable& e) {
+    out.unavailable = std::string("no OpenGL: ") + e.what();
+  }
+  return out;
+}
+
 // The default suite's fast-mouth scenario cut to `seconds`, tracked with the default options
-// and with `other`: the two rows, or why they could not be made (no default head, no OpenGL).
+// and with `other`: the two rows, or why they could not be made.
 struct MouthRows {
   SuiteScenario scenario;
   SuiteRow with, other;
@@ -108,19 +140,13 @@ struct MouthRows {
 
 MouthRows mouth_rows(double seconds, const tracking::TrackerOptions& other) {
   MouthRows rows;
-  for (const SuiteScenario& s : load_suite(default_suite_path()).scenarios)
-    if (s.name == "mouth") rows.scenario = s;
+  rows.scenario = default_scenario("mouth");
   rows.scenario.seconds = seconds;
-  try {
-    const FaceModel model = load_default_face_model();
-    const ExpressionLibrary library = ExpressionLibrary::load_default();
-    const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
-    rows.with = run_scenario(rows.scenario, model, &library, layout);
-    rows.other = run_scenario(rows.scenario, model, &library, layout, {}, other);
-  } catch (const InputError& e) {
-    rows.unavailable = std::string("no default head: ") + e.what();
-  } catch (const render::RenderUnavailable& e) {
-    rows.unavailable = std::string("no OpenGL: ") + e.what();
+  DefaultHeadRow with = on_default_head(rows.scenario);
+  rows.unavailable = with.unavailable;
+  if (rows.unavailable.empty()) {
+    rows.with = std::move(with.row);
+    rows.other = on_default_head(rows.scenario, other).row;
   }
   return rows;
 }
@@ -156,33 +182,39 @@ TEST(Suite, TheMouthClipsMergedPairsGetTheirNamesBack) {
 // What `rostro eval suite --out` writes: each frame as rendered, handed out before it is
 // tracked, and the tracks and truth behind the row, one per frame, that score as the row does.
 TEST(Suite, ARowKeepsItsTracksAndHandsOutEachFrame) {
-  SuiteScenario still = load_suite(default_suite_path()).scenarios.front();
-  ASSERT_EQ(still.name, "still");
+  SuiteScenario still = default_scenario("still");
   still.seconds = 0.4;
-  std::optional<SuiteRow> row;
   long handed = 0;
   cv::Size size;
-  try {
-    const FaceModel model = load_default_face_model();
-    const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
-    row = run_scenario(still, model, nullptr, layout, {}, {}, [&](const cv::Mat& bgr) {
-      ++handed;
-      size = bgr.size();
-    });
-  } catch (const InputError& e) {
-    GTEST_SKIP() << "no default head: " << e.what();
-  } catch (const render::RenderUnavailable& e) {
-    GTEST_SKIP() << "no OpenGL: " << e.what();
-  }
-  ASSERT_EQ(row->frames, 10);
-  EXPECT_EQ(handed, row->frames);
+  const DefaultHeadRow run = on_default_head(still, {}, [&](const cv::Mat& bgr) {
+    ++handed;
+    size = bgr.size();
+  });
+  if (!run.unavailable.empty()) GTEST_SKIP() << run.unavailable;
+  const SuiteRow& row = run.row;
+  ASSERT_EQ(row.frames, 10);
+  EXPECT_EQ(handed, row.frames);
   EXPECT_EQ(size, cv::Size(640, 480));
-  ASSERT_EQ(static_cast<long>(row->tracks.size()), row->frames);
-  ASSERT_EQ(static_cast<long>(row->truth.size()), row->frames);
-  const TrackEvalResult again = evaluate_tracks(row->truth, row->tracks);
-  EXPECT_EQ(again.scored_observations, row->result.scored_observations);
-  EXPECT_EQ(again.error_px.mean, row->result.error_px.mean);
+  ASSERT_EQ(static_cast<long>(row.tracks.size()), row.frames);
+  ASSERT_EQ(static_cast<long>(row.truth.size()), row.frames);
+  const TrackEvalResult again = evaluate_tracks(row.truth, row.tracks);
+  EXPECT_EQ(again.scored_observations, row.result.scored_observations);
+  EXPECT_EQ(again.error_px.mean, row.result.error_px.mean);
   EXPECT_GT(again.scored_observations, 0);
+}
+
+// The fast mouth draws the right corner 28 px inward, to within 4 px of the right upper lip's
+// dot; both are lost while they touch (frames 84-93). Where the start's arrangement, fitted to
+// their neighbours, puts them (the corner 26 px from its dot, the upper lip 12 px from its own),
+// the upper lip's name was found on the corner's dot and followed it to the end: 15 swapped
+// observations. Carried from where they were last seen, as the lids are, each is found on its
+// own dot.
+TEST(Suite, TheMouthsDotsLostTogetherAreFoundOnTheirOwn) {
+  const DefaultHeadRow run = on_default_head(default_scenario("mouth"));
+  if (!run.unavailable.empty()) GTEST_SKIP() << run.unavailable;
+  ASSERT_EQ(run.row.frames, 110);
+  EXPECT_EQ(run.row.result.swap_observations, 0);
+  EXPECT_EQ(run.row.result.astray_observations, 0);
 }
 
 }  // namespace
