@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <functional>
 #include <optional>
 #include <sstream>
 
@@ -204,6 +205,36 @@ struct Scene {
   tracking::MarkerLayout layout;
 };
 
+// `--out DIR` of eval suite and eval photos: a row's clip as rendered (NAME.mp4) and the tracks
+// and truth behind it (NAME.tracks.csv, NAME.truth.csv), so that a row can be replayed with
+// `rostro track NAME.mp4 --overlay ...` and read with `rostro eval tracks`. Nothing without it.
+class RowOutput {
+ public:
+  RowOutput(const std::string& out, const std::string& name, double fps) : dir_(out), name_(name) {
+    if (out.empty()) return;
+    std::filesystem::create_directories(dir_);
+    render::VideoOptions v;
+    v.fps = fps;
+    video_.emplace(dir_ / (name_ + ".mp4"), v);
+  }
+  // The frames' sink to hand the run: empty without --out.
+  std::function<void(const cv::Mat&)> frames() {
+    if (!video_) return {};
+    return [this](const cv::Mat& bgr) { video_->write(bgr); };
+  }
+  void finish(const eval::SuiteRow& row) {
+    if (!video_) return;
+    video_->finish();
+    tracking::write_tracks(dir_ / (name_ + ".tracks.csv"), row.tracks);
+    tracking::write_tracks(dir_ / (name_ + ".truth.csv"), row.truth);
+  }
+
+ private:
+  std::filesystem::path dir_;
+  std::string name_;
+  std::optional<render::VideoWriter> video_;
+};
+
 struct SuiteArgs {
   std::string suite, layout, head, markdown, only, out;
   std::vector<std::string> tracker_options;  // NAME=VALUE
@@ -233,30 +264,16 @@ void eval_suite(const SuiteArgs& a) {
     const auto& s = chosen[i];
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.seconds * s.fps));
-    // With --out, the clip as rendered and the tracks behind its row, as `eval photos --out`.
-    const std::filesystem::path dir(a.out);
-    std::optional<render::VideoWriter> video;
-    if (!a.out.empty()) {
-      std::filesystem::create_directories(dir);
-      render::VideoOptions v;
-      v.fps = s.fps;
-      video.emplace(dir / (s.name + ".mp4"), v);
-    }
+    RowOutput out(a.out, s.name, s.fps);
     rows.push_back(eval::run_scenario(
         s, scene.model, &scene.library, scene.layout,
         [&](long done, long total) {
           interrupt.throw_if_requested();
           progress.update(done, total);
         },
-        tracker,
-        video ? eval::ScenarioFrameSink([&](const cv::Mat& bgr) { video->write(bgr); })
-              : eval::ScenarioFrameSink()));
+        tracker, out.frames()));
     progress.finish();
-    if (video) {
-      video->finish();
-      tracking::write_tracks(dir / (s.name + ".tracks.csv"), rows.back().tracks);
-      tracking::write_tracks(dir / (s.name + ".truth.csv"), rows.back().truth);
-    }
+    out.finish(rows.back());
   }
   std::fputs(eval::suite_table_text(rows).c_str(), stdout);
   std::printf("\nlost marker-frames by the rule that dropped them\n%s",
@@ -301,31 +318,16 @@ void eval_photos(const PhotosArgs& a) {
     const auto& s = chosen[i];
     Progress progress(fmt::format("[{}/{}] {}", i + 1, chosen.size(), s.name),
                       std::lround(s.scene.seconds * s.scene.fps));
-    // With --out, the scene as a video and the tracks behind its row, so that a row can be
-    // replayed with `rostro track NAME.mp4 --overlay ...` and read with `rostro eval tracks`.
-    const std::filesystem::path dir(a.out);
-    std::optional<render::VideoWriter> video;
-    if (!a.out.empty()) {
-      std::filesystem::create_directories(dir);
-      render::VideoOptions v;
-      v.fps = s.scene.fps;
-      video.emplace(dir / (s.name + ".mp4"), v);
-    }
+    RowOutput out(a.out, s.name, s.scene.fps);
     rows.push_back(eval::run_photo_scenario(
         s, faces, layout,
         [&](long done, long total) {
           interrupt.throw_if_requested();
           progress.update(done, total);
         },
-        tracker,
-        video ? eval::PhotoFrameSink([&](const cv::Mat& bgr) { video->write(bgr); })
-              : eval::PhotoFrameSink()));
+        tracker, out.frames()));
     progress.finish();
-    if (video) {
-      video->finish();
-      tracking::write_tracks(dir / (s.name + ".tracks.csv"), rows.back().suite.tracks);
-      tracking::write_tracks(dir / (s.name + ".truth.csv"), rows.back().suite.truth);
-    }
+    out.finish(rows.back().suite);
   }
   std::vector<eval::SuiteRow> suite_rows;
   for (const eval::PhotoRow& r : rows) suite_rows.push_back(r.suite);
