@@ -214,15 +214,6 @@ void MarkerTracker::Impl::found_on(size_t i, const Dot& d) {
   s.valid = true, s.position = d.center, s.lost_reason = LostReason::None;
   recent_diameter[i] = last_diameter[i] = d.diameter, recent_elongation[i] = d.elongation;
   s.quality = 0.9 * std::clamp(d.contrast / reference_contrast[i], 0.0, 1.0);
-  if (options.start_place_when_found && !reference_seen[i]) start_where_found(i);
-}
-
-void MarkerTracker::Impl::start_where_found(size_t i) {
-  if (i >= has_prediction.size() || !has_prediction[i]) return;
-  cv::Matx23d back;
-  cv::invertAffineTransform(prediction_fit[i], back);
-  reference[i] = apply(back, states[i].position);
-  reference_seen[i] = true;
 }
 
 bool MarkerTracker::Impl::apart_from_lower_lip(size_t i, size_t j) const {

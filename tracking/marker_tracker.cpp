@@ -348,7 +348,6 @@ void set_tracker_option(TrackerOptions& options, const std::string& assignment) 
       ROSTRO_NAMED_OPTION(O, max_relative_motion_px),
       ROSTRO_NAMED_OPTION(O, lower_lip.together),
       ROSTRO_NAMED_OPTION(O, lower_lip.with_the_jaw),
-      ROSTRO_NAMED_OPTION(O, start_place_when_found),
       ROSTRO_NAMED_OPTION(O, swap_back_pairs),
       ROSTRO_NAMED_OPTION(O, hold_found_after_lost),
       ROSTRO_NAMED_OPTION(O, lower_lip.up),

@@ -117,13 +117,6 @@ struct TrackerOptions {
   // cheek is not found on the eye's corner or a lip corner beside it, a lid dot against its
   // lashes still on itself. Negative: any blob that passes the dot checks.
   double found_look_allowance = 0.2;
-  // A dot not seen when tracking started is looked for where its neighbours put the
-  // identification's guess at its start place; once found (on re-acquisition, or named by the
-  // second look) it takes as its start place where its neighbours' motion since the start puts
-  // the dot it was found on. The guess can be a spacing off (on a held-out photo scene the left
-  // mouth corner's, by the moustache, 28 px), and after a hand passed that dot was looked for
-  // there and never found again. false: the guess stays.
-  bool start_place_when_found = true;
   // Two dots that land on one spot for a frame and part again (a brow raised at once, the chin
   // boss dropped onto the chin's place) can leave LK following one name on the other's dot, that
   // name's own dot free and the other name lost. A lost marker then takes the dot its valid

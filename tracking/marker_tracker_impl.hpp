@@ -517,12 +517,6 @@ struct MarkerTracker::Impl {
   // quality its contrast against the start's, below a followed dot's.
   void found_on(size_t i, const Dot& d);
 
-  // TrackerOptions::start_place_when_found: marker i, found, takes the start place that the fit
-  // it was looked for by (predict_lost: its neighbours' motion since the start) takes its dot
-  // back to. The spacings stay the start's: taken again, the chin boss's shrank with the chin's
-  // new place and its search radius with it (the marker suite's low light: 33 -> 80 lost frames).
-  void start_where_found(size_t i);
-
   // A lid carried from where it was last seen moves up and down with the lid meanwhile, but
   // hardly sideways: a dot well to the side of where it is carried is an eye corner's.
 

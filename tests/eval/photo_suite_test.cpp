@@ -428,10 +428,9 @@ TEST(PhotoSuite, TheSecondLookMovesNoFollowedNameOntoABlobUnlikeItsDot) {
 // The held-out hand scene of seed 7 (2008_001009.jpg, talking), its dots looked for at their
 // points: the left mouth-corner dot, by the moustache, is not seen when tracking starts, and the
 // identification's guess at its start place lies 28 px from it; the second look names it. Looked
-// for after the hand passes where its neighbours put that guess, it was never found again. It
-// takes its start place where it is first found (TrackerOptions::start_place_when_found), and,
-// a mouth-corner dot, it is carried while lost from where it was last seen: either way every dot
-// is back within 3 frames of the hand.
+// for after the hand passes where its neighbours put that guess, it was never found again; a
+// mouth-corner dot, it is now carried while lost from where it was last seen, and every dot is
+// back within 3 frames of the hand.
 TEST(PhotoSuite, ADotNamedAfterTheStartIsFoundAgainAfterTheHand) {
   if (!std::filesystem::is_directory(default_faces_dir()))
     GTEST_SKIP() << default_faces_dir() << " is absent (../shared beside the repository)";
@@ -439,14 +438,11 @@ TEST(PhotoSuite, ADotNamedAfterTheStartIsFoundAgainAfterTheHand) {
       default_scenario("hand_s7", "photo_scenes_heldout.json");
   ASSERT_TRUE(scene);
   const tracking::MarkerLayout layout = tracking::load_layout(tracking::default_layout_path());
-  tracking::TrackerOptions guess_kept = looked_for_at_points();
-  guess_kept.start_place_when_found = false;
-  for (const tracking::TrackerOptions& options : {looked_for_at_points(), guess_kept}) {
-    const PhotoRow row = run_photo_scenario(*scene, default_faces_dir(), layout, {}, options);
-    EXPECT_GE(row.occlusions, 1);
-    EXPECT_GE(row.worst_reacquire, 0);  // -1: one never came back
-    EXPECT_LE(row.worst_reacquire, 3);
-  }
+  const PhotoRow row =
+      run_photo_scenario(*scene, default_faces_dir(), layout, {}, looked_for_at_points());
+  EXPECT_GE(row.occlusions, 1);
+  EXPECT_GE(row.worst_reacquire, 0);  // -1: one never came back
+  EXPECT_LE(row.worst_reacquire, 3);
 }
 
 // The first blurred scene (2008_001322.jpg, seed 1): a lost dot is found again only on a blob
