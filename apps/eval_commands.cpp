@@ -292,12 +292,13 @@ void eval_suite(const SuiteArgs& a) {
 }
 
 struct PhotosArgs {
-  std::string file, fixtures, layout, markdown, only, out;
+  std::string file, fixtures, layout, markdown, report, only, out;
   std::vector<std::string> tracker_options;  // NAME=VALUE
 };
 
 void eval_photos(const PhotosArgs& a) {
   require_extension(a.markdown, ".md", "--markdown");
+  require_extension(a.report, ".json", "--report");
   const std::filesystem::path faces =
       a.fixtures.empty() ? eval::default_faces_dir() : std::filesystem::path(a.fixtures);
   if (std::error_code ec; !std::filesystem::is_directory(faces, ec))
@@ -359,6 +360,13 @@ void eval_photos(const PhotosArgs& a) {
         eval::loss_table_markdown(suite_rows));
     eval::replace_markdown_section(a.markdown, "## Photo scenes", body);
     std::printf("tables written to %s (section \"Photo scenes\")\n", a.markdown.c_str());
+  }
+  if (!a.report.empty()) {
+    eval::write_text_file(
+        a.report,
+        eval::photo_report_json(rows, a.file.empty() ? "data/eval/photo_scenes.json" : a.file,
+                                a.tracker_options));
+    std::printf("rows written to %s\n", a.report.c_str());
   }
 }
 
@@ -660,6 +668,8 @@ void add_eval_commands(CLI::App& app) {
   photos->add_option("--only", ph.only, "run only these scenes, e.g. still,blur");
   photos->add_option("--markdown", ph.markdown,
                      "write the tables into this Markdown file's \"## Photo scenes\" section");
+  photos->add_option("--report", ph.report,
+                     "also write the rows as JSON for scripts (every figure of the tables)");
   photos->add_option("--out", ph.out,
                      "also write each scene here as a video and its tracked and exact marker "
                      "tracks (NAME.mp4, NAME.tracks.csv, NAME.truth.csv)");
@@ -668,7 +678,7 @@ void add_eval_commands(CLI::App& app) {
                      "dots.max_elongation=4");
   photos->footer(
       "Example:\n  rostro eval photos --only still,blur\n  rostro eval photos --markdown "
-      "docs/accuracy.md");
+      "docs/accuracy.md\n  rostro eval photos --only still --report still.json");
   photos->callback([] { eval_photos(ph); });
 
   static HeadArgs he;

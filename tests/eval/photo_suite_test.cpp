@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <span>
@@ -62,6 +63,45 @@ TEST(PhotoSuite, HiddenFromTheStartIsNoOcclusion) {
   EXPECT_EQ(row.hidden_reported, 1);
   EXPECT_EQ(row.occlusions, 0);
   EXPECT_EQ(row.worst_reacquire, 0);
+}
+
+TEST(PhotoSuite, TheReportCarriesEveryFigureOfTheTables) {
+  std::vector<tracking::TrackedFrame> truth, est;
+  make({true, false, true, true}, {true, true, true, true}, 5.0, truth, est);
+  PhotoRow row;
+  row.suite.name = "hand_a";
+  row.suite.title = "a hand";
+  row.suite.frames = 4;
+  row.suite.result.scored_observations = 3;
+  row.suite.result.lost_observations = 1;
+  row.suite.result.swap_observations = 2;
+  row.suite.result.astray_observations = 1;
+  row.suite.result.error_px.median = 0.05;
+  row.suite.result.error_px.p95 = 0.25;
+  count_hidden_and_reacquire(truth, est, row);
+  PhotoRow unscored;  // nothing visible: no error figures
+  unscored.suite.name = "empty";
+
+  const auto j = nlohmann::json::parse(
+      photo_report_json({row, unscored}, "scenes.json", {"min_recent_size=0"}));
+  EXPECT_EQ(j["kind"], "rostro.eval.photos");
+  EXPECT_EQ(j["scenes"], "scenes.json");
+  EXPECT_EQ(j["options"][0], "min_recent_size=0");
+  ASSERT_EQ(j["rows"].size(), 2u);
+  const auto& r = j["rows"][0];
+  EXPECT_EQ(r["name"], "hand_a");
+  EXPECT_EQ(r["title"], "a hand");
+  EXPECT_DOUBLE_EQ(r["median_px"].get<double>(), 0.05);
+  EXPECT_DOUBLE_EQ(r["p95_px"].get<double>(), 0.25);
+  EXPECT_EQ(r["swapped"], 2);
+  EXPECT_EQ(r["astray"], 1);
+  EXPECT_EQ(r["lost"], 1);
+  EXPECT_EQ(r["visible"], 4);
+  EXPECT_EQ(r["hidden_reported"], 1);
+  EXPECT_EQ(r["occlusions"], 1);
+  EXPECT_TRUE(r["worst_reacquire"].is_null());  // 5 px off: never back
+  EXPECT_TRUE(j["rows"][1]["median_px"].is_null());
+  EXPECT_EQ(j["rows"][1]["worst_reacquire"], 0);
 }
 
 TEST(PhotoSuite, DefaultFileCoversEveryPhotoAndTheIssuesCases) {
