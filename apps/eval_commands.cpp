@@ -338,8 +338,8 @@ void eval_photos(const PhotosArgs& a) {
               eval::loss_table_text(suite_rows).c_str());
   if (!a.markdown.empty()) {
     const std::string body = fmt::format(
-        "Written by `rostro eval photos --markdown`{} (rostro {}) on {}: the scenes of "
-        "data/eval/photo_scenes.json, real photographs of faces (../shared/fixtures/faces) with "
+        "Written by `rostro eval photos{} --markdown`{} (rostro {}) on {}: the scenes of "
+        "{}, real photographs of faces (../shared/fixtures/faces) with "
         "the default layout painted on and moved by smooth warps (eval/photo_scene.hpp), "
         "tracked with automatic identification.\n\nOne caution in reading them: the scenes "
         "place the dots from dlib's landmarks on the photograph, and identification looks for "
@@ -355,11 +355,15 @@ void eval_photos(const PhotosArgs& a) {
         "marker took, back in view after an occlusion, to be reported within 2 px (- no "
         "occlusion, never: not before the take ended or it was hidden again).\n\n{}\nLost "
         "marker-frames by the rule that dropped them (tracking::LostReason):\n\n{}",
-        options_note(a.tracker_options, {}), ROSTRO_VERSION, utc_now(),
+        a.file.empty() ? "" : " --file " + a.file, options_note(a.tracker_options, {}),
+        ROSTRO_VERSION, utc_now(), a.file.empty() ? "data/eval/photo_scenes.json" : a.file,
         eval::suite_table_markdown(suite_rows), eval::photo_table_markdown(rows),
         eval::loss_table_markdown(suite_rows));
-    eval::replace_markdown_section(a.markdown, "## Photo scenes", body);
-    std::printf("tables written to %s (section \"Photo scenes\")\n", a.markdown.c_str());
+    // One section per scene file, as eval loop's.
+    std::string section = "## Photo scenes";
+    if (!a.file.empty()) section += ", " + std::filesystem::path(a.file).stem().string();
+    eval::replace_markdown_section(a.markdown, section, body);
+    std::printf("tables written to %s (section \"%s\")\n", a.markdown.c_str(), section.c_str() + 3);
   }
   if (!a.report.empty()) {
     eval::write_text_file(
@@ -667,7 +671,8 @@ void add_eval_commands(CLI::App& app) {
                      "marker layout JSON (default data/layouts/default.json)");
   photos->add_option("--only", ph.only, "run only these scenes, e.g. still,blur");
   photos->add_option("--markdown", ph.markdown,
-                     "write the tables into this Markdown file's \"## Photo scenes\" section");
+                     "write the tables into this Markdown file's \"## Photo scenes\" section "
+                     "(\"## Photo scenes, NAME\" for --file NAME.json)");
   photos->add_option("--report", ph.report,
                      "also write the rows as JSON for scripts (every figure of the tables)");
   photos->add_option("--out", ph.out,
