@@ -308,6 +308,7 @@ void eval_photos(const PhotosArgs& a) {
                     faces.string()));
   const eval::PhotoSuiteDefinition scenes = eval::load_photo_scenes(
       a.file.empty() ? eval::default_photo_scenes_path() : std::filesystem::path(a.file));
+  const std::string scenes_file = a.file.empty() ? "data/eval/photo_scenes.json" : a.file;
   const auto chosen = chosen_scenarios(scenes.scenarios, a.only);
   const tracking::TrackerOptions tracker = with_tracker_options(a.tracker_options);
   const tracking::MarkerLayout layout = tracking::load_layout(
@@ -356,9 +357,8 @@ void eval_photos(const PhotosArgs& a) {
         "occlusion, never: not before the take ended or it was hidden again).\n\n{}\nLost "
         "marker-frames by the rule that dropped them (tracking::LostReason):\n\n{}",
         a.file.empty() ? "" : " --file " + a.file, options_note(a.tracker_options, {}),
-        ROSTRO_VERSION, utc_now(), a.file.empty() ? "data/eval/photo_scenes.json" : a.file,
-        eval::suite_table_markdown(suite_rows), eval::photo_table_markdown(rows),
-        eval::loss_table_markdown(suite_rows));
+        ROSTRO_VERSION, utc_now(), scenes_file, eval::suite_table_markdown(suite_rows),
+        eval::photo_table_markdown(rows), eval::loss_table_markdown(suite_rows));
     // One section per scene file, as eval loop's.
     std::string section = "## Photo scenes";
     if (!a.file.empty()) section += ", " + std::filesystem::path(a.file).stem().string();
@@ -366,10 +366,7 @@ void eval_photos(const PhotosArgs& a) {
     std::printf("tables written to %s (section \"%s\")\n", a.markdown.c_str(), section.c_str() + 3);
   }
   if (!a.report.empty()) {
-    eval::write_text_file(
-        a.report,
-        eval::photo_report_json(rows, a.file.empty() ? "data/eval/photo_scenes.json" : a.file,
-                                a.tracker_options));
+    eval::write_text_file(a.report, eval::photo_report_json(rows, scenes_file, a.tracker_options));
     std::printf("rows written to %s\n", a.report.c_str());
   }
 }
