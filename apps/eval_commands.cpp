@@ -52,10 +52,17 @@ std::vector<std::string> split_commas(const std::string& text) {
   return parts;
 }
 
-// Output paths are checked before any work, so a typo costs nothing.
-void require_extension(const std::string& path, const char* ext, const char* option) {
-  if (!path.empty() && std::filesystem::path(path).extension() != ext)
+// Output paths are checked before any work, so a typo costs nothing: the file's kind, and the
+// folder it goes in (written at the end, a missing one would fail a run of minutes at its end).
+void check_output(const std::string& path, const char* ext, const char* option) {
+  if (path.empty()) return;
+  const std::filesystem::path file(path);
+  if (file.extension() != ext)
     throw InputError(fmt::format("{} {}: expected a {} file", option, path, ext));
+  const std::filesystem::path folder = file.parent_path();
+  if (std::error_code ec; !folder.empty() && !std::filesystem::is_directory(folder, ec))
+    throw InputError(
+        fmt::format("{} {}: the folder {} does not exist", option, path, folder.string()));
 }
 
 struct TracksArgs {
@@ -67,9 +74,9 @@ struct TracksArgs {
 };
 
 void eval_tracks(const TracksArgs& a) {
-  require_extension(a.report, ".json", "--report");
-  require_extension(a.summary, ".md", "--summary");
-  require_extension(a.ced, ".png", "--ced");
+  check_output(a.report, ".json", "--report");
+  check_output(a.summary, ".md", "--summary");
+  check_output(a.ced, ".png", "--ced");
   check_fps(a.pts_fps, "--pts-fps");
   eval::TrackEvalOptions o;
   const auto norm = split_commas(a.norm);
@@ -126,9 +133,9 @@ struct FapsArgs {
 };
 
 void eval_faps(const FapsArgs& a) {
-  require_extension(a.report, ".json", "--report");
-  require_extension(a.summary, ".md", "--summary");
-  require_extension(a.plot, ".png", "--plot");
+  check_output(a.report, ".json", "--report");
+  check_output(a.summary, ".md", "--summary");
+  check_output(a.plot, ".png", "--plot");
   std::vector<int> chosen;
   for (const std::string& part : split_commas(a.faps)) {
     int id = 0;
@@ -250,7 +257,7 @@ std::string options_note(const std::vector<std::string>& tracker,
 }
 
 void eval_suite(const SuiteArgs& a) {
-  require_extension(a.markdown, ".md", "--markdown");
+  check_output(a.markdown, ".md", "--markdown");
   const eval::SuiteDefinition suite = eval::load_suite(
       a.suite.empty() ? eval::default_suite_path() : std::filesystem::path(a.suite));
   const auto chosen = chosen_scenarios(suite.scenarios, a.only);
@@ -297,8 +304,8 @@ struct PhotosArgs {
 };
 
 void eval_photos(const PhotosArgs& a) {
-  require_extension(a.markdown, ".md", "--markdown");
-  require_extension(a.report, ".json", "--report");
+  check_output(a.markdown, ".md", "--markdown");
+  check_output(a.report, ".json", "--report");
   const std::filesystem::path faces =
       a.fixtures.empty() ? eval::default_faces_dir() : std::filesystem::path(a.fixtures);
   if (std::error_code ec; !std::filesystem::is_directory(faces, ec))
@@ -376,7 +383,7 @@ struct HeadArgs {
 };
 
 void eval_head(const HeadArgs& a) {
-  require_extension(a.markdown, ".md", "--markdown");
+  check_output(a.markdown, ".md", "--markdown");
   const FaceModel model = load_face_model_or_default(a.head);
   const ExpressionLibrary library = ExpressionLibrary::load_default();
   eval::HeadCheckOptions options;
@@ -435,7 +442,7 @@ std::string describe_drive(const eval::LoopScenario& s) {
 }
 
 void eval_loop(const LoopArgs& a) {
-  require_extension(a.markdown, ".md", "--markdown");
+  check_output(a.markdown, ".md", "--markdown");
   const eval::LoopDefinition loop = eval::load_closed_loop(
       a.file.empty() ? eval::default_closed_loop_path() : std::filesystem::path(a.file));
   const auto chosen = chosen_scenarios(loop.scenarios, a.only);
@@ -529,7 +536,7 @@ struct AlignmentArgs {
 };
 
 void eval_alignment(const AlignmentArgs& a) {
-  require_extension(a.markdown, ".md", "--markdown");
+  check_output(a.markdown, ".md", "--markdown");
   std::vector<eval::AlignmentCase> cases = eval::default_alignment_cases();
   if (!a.only.empty()) {
     const auto wanted = split_commas(a.only);

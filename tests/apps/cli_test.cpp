@@ -65,6 +65,20 @@ TEST(Cli, BadInputExitsOneWithOneLine) {
   EXPECT_NE(run.output.find("bad.fap:2:"), std::string::npos) << run.output;
 }
 
+TEST(Cli, AnEvaluationsOutputInAMissingFolderIsRefusedBeforeAnyWork) {
+  const auto dir = scratch("missing-folder");
+  // The truth and tracks do not exist either: the output is checked first.
+  const std::string report = (dir / "no-such-folder" / "rows.json").string();
+  const CliRun run = rostro("eval tracks --truth " + (dir / "truth.csv").string() + " --tracks " +
+                            (dir / "tracks.csv").string() + " --report " + report);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+  EXPECT_NE(run.output.find("the folder " + (dir / "no-such-folder").string() + " does not exist"),
+            std::string::npos)
+      << run.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "no-such-folder"));
+}
+
 TEST(Cli, GenerateInfoValidateConvert) {
   const auto dir = scratch("generate");
   const std::string fap = (dir / "g.fap").string();
