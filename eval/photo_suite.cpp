@@ -206,34 +206,4 @@ std::string photo_table_text(const std::vector<PhotoRow>& rows) {
   return out;
 }
 
-std::string photo_report_json(const std::vector<PhotoRow>& rows, const std::string& scenes,
-                              const std::vector<std::string>& tracker_options) {
-  using ordered = nlohmann::ordered_json;
-  auto number_or_null = [](double v) { return std::isfinite(v) ? ordered(v) : ordered(nullptr); };
-  ordered out = ordered::array();
-  for (const PhotoRow& r : rows) {
-    const TrackEvalResult& e = r.suite.result;
-    const bool scored = e.scored_observations > 0;
-    out.push_back({{"name", r.suite.name},
-                   {"title", r.suite.title},
-                   {"frames", r.suite.frames},
-                   {"median_px", scored ? number_or_null(e.error_px.median) : ordered(nullptr)},
-                   {"p95_px", scored ? number_or_null(e.error_px.p95) : ordered(nullptr)},
-                   {"swapped", e.swap_observations},
-                   {"swap_events", e.swap_events},
-                   {"astray", e.astray_observations},
-                   {"lost", e.lost_observations},
-                   {"visible", e.lost_observations + e.scored_observations},
-                   {"hidden_reported", r.hidden_reported},
-                   {"occlusions", r.occlusions},
-                   {"worst_reacquire",
-                    r.worst_reacquire < 0 ? ordered(nullptr) : ordered(r.worst_reacquire)}});
-  }
-  const ordered doc = {{"kind", "rostro.eval.photos"},
-                       {"scenes", scenes},
-                       {"options", tracker_options},
-                       {"rows", out}};
-  return doc.dump(2) + "\n";
-}
-
 }  // namespace rostro::eval

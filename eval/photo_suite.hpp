@@ -72,13 +72,4 @@ void count_hidden_and_reacquire(const std::vector<tracking::TrackedFrame>& truth
 std::string photo_table_markdown(const std::vector<PhotoRow>& rows);
 std::string photo_table_text(const std::vector<PhotoRow>& rows);
 
-// The same rows as JSON for scripts (`rostro eval photos --report`): "kind"
-// ("rostro.eval.photos"), "scenes" (the file as given), "options" (the tracker options as
-// given, NAME=VALUE) and "rows", each with name, title, frames, median_px and p95_px (null
-// when nothing was scored), swapped, swap_events, astray, lost, visible, hidden_reported,
-// occlusions and worst_reacquire (frames; null when one never came back; 0 without an
-// occlusion).
-std::string photo_report_json(const std::vector<PhotoRow>& rows, const std::string& scenes,
-                              const std::vector<std::string>& tracker_options);
-
 }  // namespace rostro::eval

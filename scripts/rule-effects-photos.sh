@@ -52,7 +52,7 @@ options=(defaults "${rules[@]}")
 for i in "${!options[@]}"; do echo "$i ${options[$i]}"; done |
   xargs -P 2 -L 1 bash -c 'run_one "$0" "$1"'
 
-# The rows of each run (eval/photo_suite.hpp, photo_report_json).
+# The rows of each run (eval/report.hpp, photo_report_json).
 python3 - "$work" "${options[@]}" <<'EOF'
 import json, sys
 work, options = sys.argv[1], sys.argv[2:]

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "eval/report.hpp"
 #include "eval/track_metrics.hpp"
 #include "facecore/error.hpp"
 
